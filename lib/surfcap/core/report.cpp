@@ -1,0 +1,38 @@
+#include "surfcap/core/report.hpp"
+
+#include "surfcap/core/version.hpp"
+
+namespace surfcap::core {
+
+StageReport::StageReport(std::string stage) : stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {}
+
+void StageReport::add_timing(const std::string& step, double seconds) {
+  timings_[step] = timings_.value(step, 0.0) + seconds;
+}
+
+StageReport::Timer::Timer(StageReport& report, std::string step)
+    : report_(&report), step_(std::move(step)), start_(std::chrono::steady_clock::now()) {}
+
+StageReport::Timer::~Timer() { stop(); }
+
+double StageReport::Timer::stop() {
+  if (stopped_) return 0.0;
+  stopped_ = true;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  report_->add_timing(step_, seconds);
+  return seconds;
+}
+
+Json StageReport::to_json() const {
+  Json document = figures_;
+  document["format"] = format_tag("report", 1);
+  document["stage"] = stage_;
+  document["version"] = std::string(version());
+  document["timings_s"] = timings_;
+  document["total_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  return document;
+}
+
+void StageReport::write(const std::filesystem::path& path) const { write_json_file(path, to_json()); }
+
+}  // namespace surfcap::core

@@ -1,0 +1,47 @@
+#pragma once
+// The machine-readable report every stage writes: timings and quality figures.
+
+#include <chrono>
+#include <filesystem>
+#include <string>
+
+#include "surfcap/core/json_document.hpp"
+
+namespace surfcap::core {
+
+/// {"format":"surfcap.report/1","stage","version","timings_s":{...},"total_s", ...figures}
+class StageReport {
+ public:
+  explicit StageReport(std::string stage);
+
+  /// Quality figures and anything else the stage wants to say; written at the top level.
+  Json& figures() { return figures_; }
+  void add_timing(const std::string& step, double seconds);
+
+  /// Measures one step from construction to destruction (or stop()).
+  class Timer {
+   public:
+    Timer(StageReport& report, std::string step);
+    ~Timer();
+    double stop();
+
+   private:
+    StageReport* report_;
+    std::string step_;
+    std::chrono::steady_clock::time_point start_;
+    bool stopped_ = false;
+  };
+  Timer time(std::string step) { return Timer(*this, std::move(step)); }
+
+  Json to_json() const;
+  /// Writes atomically (JSON, sorted keys).
+  void write(const std::filesystem::path& path) const;
+
+ private:
+  std::string stage_;
+  Json figures_ = Json::object();
+  Json timings_ = Json::object();
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace surfcap::core
