@@ -98,6 +98,7 @@ ToolApp::ToolApp(std::string name, std::string description) : app_(std::move(des
   app_.option_defaults()->always_capture_default();
   app_.set_version_flag("--version", std::string(version()));
   app_.config_formatter(std::make_shared<JsonConfig>());
+  app_.allow_config_extras(CLI::config_extras_mode::error);
   app_.set_config("--config", "", "JSON file holding option values (keys: long option names)")
       ->check(CLI::ExistingFile);
   app_.add_option("--threads", common_.threads, "Worker threads (0: all hardware threads)")

@@ -1,5 +1,6 @@
 #include "surfcap/core/mesh.hpp"
 
+#include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>

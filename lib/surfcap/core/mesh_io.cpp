@@ -158,10 +158,29 @@ Mesh mesh_from_recording(const OMMesh& om, const RecordingImporter& importer, bo
   return mesh;
 }
 
-}  // namespace
+/// For ASCII files: the first "nan"/"inf" token and its line, which OpenMesh's stream parsing
+/// turns into misleading follow-up errors. Empty if none.
+std::string find_non_finite_token(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  long number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream words(line);
+    std::string word;
+    while (words >> word) {
+      std::string lower;
+      for (const char c : word) lower.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+      if (!lower.empty() && (lower[0] == '-' || lower[0] == '+')) lower.erase(0, 1);
+      if (lower == "nan" || lower == "inf" || lower == "infinity" || lower.rfind("nan(", 0) == 0)
+        return "non-finite coordinate '" + word + "' at line " + std::to_string(number);
+    }
+  }
+  return {};
+}
 
-Mesh read_mesh(const std::filesystem::path& path, const MeshRequirements& requirements, std::optional<long> frame) {
-  const std::string extension = lowercase_extension(path);
+Mesh read_and_validate(const std::filesystem::path& path, const std::string& extension,
+                       const MeshRequirements& requirements, std::optional<long> frame) {
   check_extension(path, extension);
   {
     std::ifstream probe(path, std::ios::binary);
@@ -196,11 +215,25 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshRequirements& requir
   return mesh;
 }
 
+}  // namespace
+
+Mesh read_mesh(const std::filesystem::path& path, const MeshRequirements& requirements, std::optional<long> frame) {
+  try {
+    return read_and_validate(path, lowercase_extension(path), requirements, frame);
+  } catch (const Error& error) {
+    if (error.code() != ExitCode::bad_input) throw;
+    if (const std::string token = find_non_finite_token(path); !token.empty())
+      throw bad_input(path, "NaN/Inf vertex coordinates: " + token, frame);
+    throw;
+  }
+}
+
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const MeshWriteOptions& write_options) {
   const std::string extension = lowercase_extension(path);
   check_extension(path, extension);
   OMMesh om;
-  const bool colors = write_options.write_colors && mesh.has_colors();
+  // OBJ has no standard per-vertex colour (OpenMesh's OBJ writer refuses the option).
+  const bool colors = write_options.write_colors && mesh.has_colors() && extension != ".obj";
   const bool uvs = write_options.write_uvs && mesh.has_uvs();
   if (colors) om.request_vertex_colors();
   if (uvs) om.request_vertex_texcoords2D();
