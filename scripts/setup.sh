@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Installs the Debian packages surfcap needs (only those missing) and builds Release into build/.
+# Usage: scripts/setup.sh [--benchmarks] [--sanitize] [--build-dir DIR]
+# Environment: SURFCAP_JOBS (default: nproc).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=build
+cmake_options=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --benchmarks) cmake_options+=(-DSURFCAP_BUILD_BENCHMARKS=ON) ;;
+    --sanitize) cmake_options+=(-DSURFCAP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo) ;;
+    --build-dir) build_dir="$2"; shift ;;
+    *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+packages=(
+  build-essential cmake pkg-config git
+  libeigen3-dev libopenmesh-dev libopencv-dev libflann-dev libcgal-dev libtet1.5-dev
+  libcli11-dev libspdlog-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libtinygltf-dev libsuitesparse-dev libtbb-dev
+)
+missing=()
+for package in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$package" 2>/dev/null || true)
+  [ "$status" = "install ok installed" ] || missing+=("$package")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all ${#packages[@]} packages present"
+fi
+
+jobs=${SURFCAP_JOBS:-$(nproc)}
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${cmake_options[@]}" > "$build_dir.configure.log" 2>&1 \
+  || { cat "$build_dir.configure.log"; exit 1; }
+rm -f "$build_dir.configure.log"
+echo "setup: building into $build_dir/ with $jobs jobs"
+cmake --build "$build_dir" -j "$jobs"
