@@ -15,6 +15,7 @@
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/mesh_precheck.hpp"
 
 namespace surfcap::core {
 namespace {
@@ -71,51 +72,6 @@ class RecordingImporter : public OpenMesh::IO::ImporterT<OMMesh> {
     return handle;
   }
 };
-
-/// Element counts a PLY or OFF header promises, to detect truncated files.
-struct DeclaredCounts {
-  long vertices = -1;
-  long faces = -1;
-};
-
-DeclaredCounts declared_counts(const std::filesystem::path& path, const std::string& extension) {
-  DeclaredCounts counts;
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  if (extension == ".ply") {
-    while (std::getline(in, line)) {
-      std::istringstream words(line);
-      std::string keyword, element;
-      long count = -1;
-      words >> keyword;
-      if (keyword == "end_header") break;
-      if (keyword == "element" && (words >> element >> count)) {
-        if (element == "vertex") counts.vertices = count;
-        if (element == "face") counts.faces = count;
-      }
-    }
-  } else if (extension == ".off") {
-    std::vector<std::string> tokens;
-    while (tokens.size() < 3 && std::getline(in, line)) {
-      line = line.substr(0, line.find('#'));
-      std::istringstream words(line);
-      std::string word;
-      while (words >> word) {
-        if (tokens.empty() && word.find("OFF") != std::string::npos) continue;
-        tokens.push_back(word);
-      }
-    }
-    try {
-      if (tokens.size() >= 2) {
-        counts.vertices = std::stol(tokens[0]);
-        counts.faces = std::stol(tokens[1]);
-      }
-    } catch (const std::exception&) {
-      // left at -1: OpenMesh will reject the header
-    }
-  }
-  return counts;
-}
 
 std::string lowercase_extension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
@@ -186,7 +142,7 @@ Mesh read_and_validate(const std::filesystem::path& path, const std::string& ext
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw io_error(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
   }
-  const DeclaredCounts declared = declared_counts(path, extension);
+  const MeshFileCounts declared = precheck_mesh_file(path, extension, frame);
 
   OMMesh om;
   om.request_vertex_colors();

@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
@@ -199,6 +201,59 @@ TEST(MeshIO, UvsRoundTripThroughObj) {
   const core::Mesh back = core::read_mesh(dir / "uv.obj");
   ASSERT_TRUE(back.has_uvs());
   EXPECT_LT((back.uvs - mesh.uvs).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+}  // namespace
+}  // namespace surfcap
+
+namespace surfcap {
+namespace {
+
+const char* kPlyHeader =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+TEST(MeshPrecheck, MalformedAsciiNeverReachesOpenMesh) {
+  // Each of these once made OpenMesh read uninitialised values (one allocated 21 GB).
+  testing::TemporaryDirectory dir("mesh_precheck");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"nan.ply", std::string(kPlyHeader) + "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"},
+      {"word.ply", std::string(kPlyHeader) + "0 0 0\nabc 0 0\n0 1 0\n3 0 1 2\n"},
+      {"inf.ply", std::string(kPlyHeader) + "0 0 0\n1 -inf 0\n0 1 0\n3 0 1 2\n"},
+      {"short.ply", std::string(kPlyHeader) + "0 0 0\n1 0 0\n0 1 0\n"},
+      {"longlist.ply", std::string(kPlyHeader) + "0 0 0\n1 0 0\n0 1 0\n200000 0 1 2\n"},
+      {"nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"},
+      {"short.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"},
+      {"noheader.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"},
+  };
+  for (const auto& [name, text] : cases) {
+    testing::write_text(dir / name, text);
+    try {
+      core::read_mesh(dir / name, {}, 5);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const core::Error& e) {
+      EXPECT_EQ(e.code(), core::ExitCode::bad_input) << name << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find(name + "' (frame 5)"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(MeshPrecheck, BinaryNanAndCorruptListAreBadInput) {
+  testing::TemporaryDirectory dir("mesh_precheck_binary");
+  core::Mesh mesh = testing::make_sphere(4, 6);
+  core::write_mesh(dir / "ok.ply", mesh);
+  std::string bytes = core::read_file(dir / "ok.ply");
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  std::string with_nan = bytes;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(with_nan.data() + body + 12, &nan, 4);  // vertex 1, x
+  testing::write_text(dir / "nan.ply", with_nan);
+  EXPECT_THROW(core::read_mesh(dir / "nan.ply"), core::Error);
+  const std::size_t faces = body + static_cast<std::size_t>(mesh.vertex_count()) * 12;
+  std::string corrupt = bytes;
+  corrupt[faces] = static_cast<char>(250);  // first face claims 250 vertices
+  testing::write_text(dir / "corrupt.ply", corrupt);
+  EXPECT_THROW(core::read_mesh(dir / "corrupt.ply"), core::Error);
 }
 
 }  // namespace
