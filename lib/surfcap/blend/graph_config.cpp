@@ -1,0 +1,86 @@
+#include "surfcap/blend/graph_config.hpp"
+
+#include "surfcap/blend/source_set.hpp"
+#include "surfcap/core/error.hpp"
+#include "surfcap/core/json_document.hpp"
+
+namespace surfcap::blend {
+
+Measure parse_measure(const std::string& name) {
+  for (Measure m : {Measure::root_speed, Measure::turning_rate, Measure::jump_height, Measure::jump_length,
+                    Measure::hand_height})
+    if (measure_name(m) == name) return m;
+  throw core::bad_arguments("unknown measure '" + name +
+                            "' (root_speed, turning_rate, jump_height, jump_length, hand_height)");
+}
+
+std::string measure_name(Measure measure) {
+  switch (measure) {
+    case Measure::root_speed: return "root_speed";
+    case Measure::turning_rate: return "turning_rate";
+    case Measure::jump_height: return "jump_height";
+    case Measure::jump_length: return "jump_length";
+    case Measure::hand_height: return "hand_height";
+  }
+  return "?";
+}
+
+const SpaceConfig* GraphConfig::find(const std::string& name) const {
+  for (const auto& space : spaces)
+    if (space.name == name) return &space;
+  return nullptr;
+}
+
+GraphConfig read_graph_config(const std::filesystem::path& path) {
+  const core::Json json = core::read_json_document(path, "graph_config", 1);
+  GraphConfig config;
+  try {
+    for (const auto& item : json.at("spaces")) {
+      SpaceConfig space;
+      space.name = item.at("name").get<std::string>();
+      for (const auto& sequence : item.at("sequences")) {
+        SequenceRange range;
+        if (sequence.is_string()) {
+          range.name = sequence.get<std::string>();
+        } else {
+          range.name = sequence.at("name").get<std::string>();
+          range.first = sequence.value("first", 0);
+          range.last = sequence.value("last", -1);
+        }
+        space.sequences.push_back(range);
+      }
+      for (const auto& parameter : item.value("parameters", core::Json::array())) {
+        ParameterSpec spec;
+        spec.name = parameter.at("name").get<std::string>();
+        spec.measure = parse_measure(parameter.at("measure").get<std::string>());
+        spec.vertices = parameter.value("vertices", std::vector<int>{});
+        if (spec.measure == Measure::hand_height && spec.vertices.empty())
+          throw core::bad_input(path, "parameter '" + spec.name + "': hand_height needs \"vertices\"");
+        space.parameters.push_back(spec);
+      }
+      space.cyclic = item.value("cyclic", false);
+      space.frames = item.value("frames", 0);
+      space.tolerance_mm = item.value("tolerance_mm", 5.0);
+      space.degree = item.value("degree", 2);
+      const int d = weight_space_dimensions(static_cast<int>(space.sequences.size()));
+      if (!space.parameters.empty() && static_cast<int>(space.parameters.size()) != d)
+        throw core::bad_input(path, "space '" + space.name + "': " + std::to_string(space.sequences.size()) +
+                                        " sequences need " + std::to_string(d) + " parameters");
+      if (config.find(space.name)) throw core::bad_input(path, "space '" + space.name + "' declared twice");
+      config.spaces.push_back(space);
+    }
+    for (const auto& item : json.value("transitions", core::Json::array()))
+      config.transitions.push_back({item.at("from").get<std::string>(), item.at("to").get<std::string>()});
+  } catch (const core::Json::exception& error) {
+    throw core::bad_input(path, std::string("malformed graph config: ") + error.what());
+  } catch (const core::Error& error) {
+    if (error.code() == core::ExitCode::bad_arguments) throw core::bad_input(path, error.what());
+    throw;
+  }
+  for (const auto& transition : config.transitions)
+    if (!config.find(transition.from) || !config.find(transition.to))
+      throw core::bad_input(path, "transition " + transition.from + " → " + transition.to + " names an unknown space");
+  return config;
+}
+
+}  // namespace surfcap::blend
