@@ -71,6 +71,9 @@ std::vector<std::vector<double>> time_warps(const std::vector<std::vector<Eigen:
       ++hits[r];
     }
     for (std::size_t r = 0; r < matched.size(); ++r) matched[r] /= hits[r];
+    // Cycle to cycle: the range's first and last frames are matched to each other exactly.
+    matched.front() = 0.0;
+    matched.back() = static_cast<double>(sequence.size() - 1);
     std::vector<double> warp(static_cast<std::size_t>(frames));
     for (int k = 0; k < frames; ++k) {
       const double r = reference_last * k / (frames - 1);
