@@ -1,0 +1,115 @@
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "surfcap/similarity/similarity_matrix.hpp"
+#include "surfcap/similarity/spanning_tree.hpp"
+
+namespace surfcap {
+namespace {
+
+using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+Eigen::MatrixXd line_costs(const std::vector<double>& x) {
+  const long n = static_cast<long>(x.size());
+  Eigen::MatrixXd costs(n, n);
+  for (long i = 0; i < n; ++i)
+    for (long j = 0; j < n; ++j) costs(i, j) = std::abs(x[static_cast<std::size_t>(i)] - x[static_cast<std::size_t>(j)]);
+  return costs;
+}
+
+/// Σ over nodes of the path cost from `root`, by brute force.
+double weighted_depth(const similarity::SimilarityTree& tree, int n, int root) {
+  std::vector<std::vector<std::pair<int, double>>> adjacency(static_cast<std::size_t>(n));
+  for (const auto& e : tree.edges) {
+    adjacency[static_cast<std::size_t>(e.parent)].push_back({e.child, e.cost});
+    adjacency[static_cast<std::size_t>(e.child)].push_back({e.parent, e.cost});
+  }
+  std::vector<double> distance(static_cast<std::size_t>(n), -1);
+  std::vector<int> stack{root};
+  distance[static_cast<std::size_t>(root)] = 0;
+  while (!stack.empty()) {
+    const int v = stack.back();
+    stack.pop_back();
+    for (const auto& [w, c] : adjacency[static_cast<std::size_t>(v)])
+      if (distance[static_cast<std::size_t>(w)] < 0) {
+        distance[static_cast<std::size_t>(w)] = distance[static_cast<std::size_t>(v)] + c;
+        stack.push_back(w);
+      }
+  }
+  double total = 0;
+  for (double d : distance) total += d;
+  return total;
+}
+
+TEST(SpanningTree, ChainOfFramesOnALine) {
+  const std::vector<double> x = {0.0, 1.0, 2.5, 2.9, 4.0, 7.0};
+  const auto tree = similarity::similarity_tree(line_costs(x));
+  ASSERT_EQ(tree.edges.size(), x.size() - 1);
+  EXPECT_NEAR(tree.total_cost, 7.0, 1e-12);
+  EXPECT_DOUBLE_EQ(tree.threshold, 3.0);  // frame 5's best match is 3 away
+  EXPECT_EQ(tree.components_after_pruning, 1);
+  // Breadth-first: every parent is the root or an earlier child.
+  std::vector<char> reached(x.size(), 0);
+  reached[static_cast<std::size_t>(tree.root)] = 1;
+  for (const auto& e : tree.edges) {
+    EXPECT_TRUE(reached[static_cast<std::size_t>(e.parent)]);
+    reached[static_cast<std::size_t>(e.child)] = 1;
+  }
+}
+
+TEST(SpanningTree, RootMinimisesWeightedDepth) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> uniform(0, 10);
+  std::vector<double> x(40);
+  for (auto& value : x) value = uniform(random);
+  const auto tree = similarity::similarity_tree(line_costs(x));
+  const double chosen = weighted_depth(tree, 40, tree.root);
+  EXPECT_NEAR(chosen, tree.weighted_depth, 1e-9);
+  for (int r = 0; r < 40; ++r) EXPECT_LE(chosen, weighted_depth(tree, 40, r) + 1e-9);
+  const auto forced = similarity::similarity_tree(line_costs(x), 3);
+  EXPECT_EQ(forced.root, 3);
+}
+
+TEST(SpanningTree, DisconnectedByPruningIsJoinedAndReported) {
+  Eigen::MatrixXd costs(4, 4);
+  costs << 0, 1, 10, 12, 1, 0, 11, 10, 10, 11, 0, 1, 12, 10, 1, 0;
+  const auto tree = similarity::similarity_tree(costs);
+  EXPECT_EQ(tree.components_after_pruning, 2);
+  EXPECT_EQ(tree.joining_edges, 1);
+  EXPECT_EQ(tree.edges.size(), 3u);
+  EXPECT_NEAR(tree.total_cost, similarity::minimum_spanning_tree_cost(costs), 1e-12);
+}
+
+TEST(SimilarityMatrix, ShardedRowsEqualTheWholeMatrixByteForByte) {
+  similarity::ShapeHistogramOptions layout;
+  layout.shells = 2;
+  layout.elevation_bins = 2;
+  layout.azimuth_order = 3;
+  const similarity::FrameIndex index({5, 3, 6});
+  std::mt19937 random(3);
+  std::normal_distribution<float> normal;
+  RowMatrix histograms(index.frames(), layout.size());
+  for (long i = 0; i < histograms.size(); ++i) histograms.data()[i] = normal(random);
+  similarity::SimilarityOptions options;
+  options.threads = 1;
+  const RowMatrix whole = similarity::similarity_rows(histograms, layout, index, 0, index.frames(), options);
+  options.threads = 3;
+  RowMatrix joined(index.frames(), index.frames());
+  for (const auto [begin, end] : {std::pair{0L, 4L}, std::pair{4L, 9L}, std::pair{9L, 14L}})
+    joined.middleRows(begin, end - begin) = similarity::similarity_rows(histograms, layout, index, begin, end, options);
+  EXPECT_EQ(std::memcmp(whole.data(), joined.data(), sizeof(float) * static_cast<std::size_t>(whole.size())), 0);
+  // Temporal filter, clipped: frame 5 (first of sequence 1) vs frame 0 (first of sequence 0)
+  // averages k = 0..2 only.
+  auto d = [&](long i, long j) {
+    return similarity::match_histograms(histograms.row(i).data(), histograms.row(j).data(), layout).distance;
+  };
+  EXPECT_NEAR(whole(5, 0), (d(5, 0) + d(6, 1) + d(7, 2)) / 3.0, 1e-5);
+  // Frame 7 (last of sequence 1) vs frame 2: k = -2..0.
+  EXPECT_NEAR(whole(7, 2), (d(5, 0) + d(6, 1) + d(7, 2)) / 3.0, 1e-5);
+  EXPECT_EQ(whole(4, 4), 0.0f);
+}
+
+}  // namespace
+}  // namespace surfcap
