@@ -1,0 +1,74 @@
+#include "surfcap/learn/edit_file.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "surfcap/core/error.hpp"
+
+namespace surfcap::learn {
+
+std::vector<int> select_vertices(const core::Json& selector, const PartSet& parts, long vertex_count,
+                                 const std::filesystem::path& source) {
+  std::vector<int> out;
+  if (selector.contains("vertices")) {
+    for (const auto& v : selector["vertices"]) {
+      if (!v.is_number_integer() || v.get<long>() < 0 || v.get<long>() >= vertex_count)
+        throw core::bad_input(source, "vertex index " + v.dump() + " out of range");
+      out.push_back(v.get<int>());
+    }
+  } else if (selector.contains("region")) {
+    const auto name = selector["region"].get<std::string>();
+    auto found = parts.regions.find(name);
+    if (found == parts.regions.end()) throw core::bad_input(source, "unknown region '" + name + "'");
+    out = found->second;
+  } else if (selector.contains("part") || selector.contains("part_core")) {
+    const bool core_only = selector.contains("part_core");
+    const auto name = selector[core_only ? "part_core" : "part"].get<std::string>();
+    const int j = parts.find(name);
+    if (j < 0) throw core::bad_input(source, "unknown part '" + name + "'");
+    std::set<int> others;
+    if (core_only)
+      for (std::size_t k = 0; k < parts.parts.size(); ++k)
+        if (static_cast<int>(k) != j) others.insert(parts.parts[k].vertices.begin(), parts.parts[k].vertices.end());
+    for (int v : parts.parts[j].vertices)
+      if (!others.count(v)) out.push_back(v);
+  } else {
+    throw core::bad_input(source, "a handle or anchor needs \"vertices\", \"region\", \"part\" or \"part_core\"");
+  }
+  if (out.empty()) throw core::bad_input(source, "a handle or anchor selects no vertex");
+  return out;
+}
+
+std::vector<Constraint> edit_constraints(const core::Json& edit, const PartSet& parts, const Eigen::MatrixXd& reference,
+                                         const std::filesystem::path& source) {
+  std::vector<Constraint> constraints;
+  const long n = reference.rows();
+  auto vector3 = [&](const core::Json& value, const std::string& what) {
+    if (!value.is_array() || value.size() != 3) throw core::bad_input(source, what + " must be [x, y, z]");
+    return Eigen::Vector3d(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+  };
+  for (const auto& anchor : edit.value("anchors", core::Json::array())) {
+    const double weight = anchor.value("weight", 1.0);
+    for (int v : select_vertices(anchor, parts, n, source)) constraints.push_back({v, reference.row(v).transpose(), weight});
+  }
+  for (const auto& handle : edit.value("handles", core::Json::array())) {
+    const double weight = handle.value("weight", 1.0);
+    if (!(weight > 0)) throw core::bad_input(source, "handle weight must be > 0");
+    const std::vector<int> vertices = select_vertices(handle, parts, n, source);
+    if (handle.contains("positions")) {
+      const auto& positions = handle["positions"];
+      if (!positions.is_array() || positions.size() != vertices.size())
+        throw core::bad_input(source, "\"positions\" must hold one [x, y, z] per selected vertex");
+      for (std::size_t i = 0; i < vertices.size(); ++i)
+        constraints.push_back({vertices[i], vector3(positions[i], "a position"), weight});
+    } else {
+      const Eigen::Vector3d shift = handle.contains("translate") ? vector3(handle["translate"], "\"translate\"")
+                                                                 : Eigen::Vector3d::Zero();
+      for (int v : vertices) constraints.push_back({v, reference.row(v).transpose() + shift, weight});
+    }
+  }
+  if (constraints.empty()) throw core::bad_input(source, "the edit has no handles or anchors");
+  return constraints;
+}
+
+}  // namespace surfcap::learn
