@@ -1,0 +1,188 @@
+#include "surfcap/similarity/similarity_files.hpp"
+
+#include <atomic>
+#include <map>
+#include <regex>
+
+#include "surfcap/core/error.hpp"
+#include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/npy.hpp"
+#include "surfcap/core/parallel.hpp"
+
+namespace surfcap::similarity {
+
+FrameIndex FrameList::index() const {
+  std::vector<int> lengths;
+  for (const auto& sequence : sequences) lengths.push_back(sequence.count);
+  return FrameIndex(lengths);
+}
+
+std::string FrameList::label(long node) const {
+  for (const auto& sequence : sequences) {
+    if (node < sequence.count) return sequence.name + ":" + std::to_string(sequence.first + node);
+    node -= sequence.count;
+  }
+  throw core::internal_error("node out of range");
+}
+
+long FrameList::node(const std::string& label) const {
+  const std::size_t colon = label.rfind(':');
+  long offset = 0;
+  if (colon != std::string::npos) {
+    const std::string name = label.substr(0, colon);
+    int frame = -1;
+    try {
+      frame = std::stoi(label.substr(colon + 1));
+    } catch (const std::exception&) {
+    }
+    for (const auto& sequence : sequences) {
+      if (sequence.name == name && frame >= sequence.first && frame < sequence.first + sequence.count)
+        return offset + frame - sequence.first;
+      offset += sequence.count;
+    }
+  }
+  throw core::bad_arguments("--root '" + label + "': expected <sequence>:<frame> of a captured frame");
+}
+
+HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogramOptions& options, int threads,
+                                const core::ProgressCallback& progress) {
+  options.validate();
+  HistogramSet set;
+  set.options = options;
+  set.capture = capture.folder.string();
+  std::vector<std::pair<int, int>> jobs;  // (sequence, frame number)
+  for (std::size_t s = 0; s < capture.sequences.size(); ++s) {
+    const auto& sequence = capture.sequences[s];
+    set.frames.sequences.push_back({sequence.name, sequence.first, sequence.count});
+    for (int frame = sequence.first; frame < sequence.first + sequence.count; ++frame)
+      jobs.emplace_back(static_cast<int>(s), frame);
+  }
+  set.histograms.resize(static_cast<long>(jobs.size()), options.size());
+  core::MeshRequirements tolerant;
+  tolerant.allow_non_manifold = true;
+  tolerant.allow_zero_area_faces = true;
+  std::atomic<std::size_t> done{0};
+  core::parallel_for(static_cast<long>(jobs.size()), threads, [&](long job) {
+    const auto [sequence, frame] = jobs[static_cast<std::size_t>(job)];
+    const auto path = capture.mesh_path(sequence, frame);
+    const core::Mesh mesh = core::read_mesh(path, tolerant, frame);
+    try {
+      set.histograms.row(job) = shape_histogram(mesh, options).cast<float>().transpose();
+    } catch (const core::Error& e) {
+      throw core::bad_input(path, e.what(), frame);
+    }
+    if (progress) progress(++done, jobs.size());
+  });
+  return set;
+}
+
+void write_histograms(const std::filesystem::path& database, const HistogramSet& set) {
+  core::write_npy(database / "similarity" / "histograms.npy", set.histograms.data(),
+                  {static_cast<std::size_t>(set.histograms.rows()), static_cast<std::size_t>(set.histograms.cols())});
+  core::Json sequences = core::Json::array();
+  for (const auto& sequence : set.frames.sequences)
+    sequences.push_back({{"name", sequence.name}, {"first", sequence.first}, {"count", sequence.count}});
+  core::write_json_file(database / "similarity" / "histograms.json",
+                        {{"format", core::format_tag("histograms", 1)},
+                         {"histograms", "histograms.npy"},
+                         {"options", set.options.to_json()},
+                         {"sequences", sequences},
+                         {"capture", set.capture}});
+}
+
+HistogramSet read_histograms(const std::filesystem::path& database) {
+  const auto json_path = database / "similarity" / "histograms.json";
+  const core::Json document = core::read_json_document(json_path, "histograms", 1);
+  HistogramSet set;
+  set.options = ShapeHistogramOptions::from_json(core::get_field<core::Json>(document, "options", json_path));
+  set.capture = document.value("capture", std::string());
+  long total = 0;
+  for (const auto& entry : core::get_field<core::Json>(document, "sequences", json_path)) {
+    FrameList::Sequence sequence{core::get_field<std::string>(entry, "name", json_path),
+                                 core::get_field<int>(entry, "first", json_path),
+                                 core::get_field<int>(entry, "count", json_path)};
+    if (sequence.count <= 0) throw core::bad_input(json_path, "sequence '" + sequence.name + "' has no frames");
+    total += sequence.count;
+    set.frames.sequences.push_back(sequence);
+  }
+  const auto npy_path = database / "similarity" / core::get_field<std::string>(document, "histograms", json_path);
+  const core::NpyArray array = core::read_npy(npy_path, core::DType::float32, {total, set.options.size()});
+  set.histograms = Eigen::Map<const FloatRows>(array.data<float>(), total, set.options.size());
+  return set;
+}
+
+std::pair<long, long> parse_row_range(const std::string& text, long n) {
+  static const std::regex range(R"((\d+):(\d+))");
+  std::smatch m;
+  if (!std::regex_match(text, m, range)) throw core::bad_arguments("--rows '" + text + "': expected a:b");
+  const long begin = std::stol(m[1]), end = std::stol(m[2]);
+  if (begin >= end || end > n)
+    throw core::bad_arguments("--rows " + text + ": need 0 ≤ a < b ≤ " + std::to_string(n) + " (frames)");
+  return {begin, end};
+}
+
+std::filesystem::path row_block_path(const std::filesystem::path& database, long begin, long end) {
+  return database / "similarity" / "rows" / ("rows-" + std::to_string(begin) + "-" + std::to_string(end) + ".npy");
+}
+
+FloatRows merge_row_blocks(const std::filesystem::path& database, long n) {
+  const auto folder = database / "similarity" / "rows";
+  std::map<long, std::pair<long, std::filesystem::path>> blocks;
+  static const std::regex name(R"(rows-(\d+)-(\d+)\.npy)");
+  if (std::filesystem::is_directory(folder))
+    for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+      std::smatch m;
+      const std::string file = entry.path().filename().string();
+      if (std::regex_match(file, m, name)) blocks[std::stol(m[1])] = {std::stol(m[2]), entry.path()};
+    }
+  FloatRows matrix(n, n);
+  long next = 0;
+  for (const auto& [begin, block] : blocks) {
+    const auto& [end, path] = block;
+    if (begin != next)
+      throw core::bad_input(path, begin > next ? "rows " + std::to_string(next) + ":" + std::to_string(begin) +
+                                                     " are missing"
+                                               : "overlaps the previous block");
+    const core::NpyArray array = core::read_npy(path, core::DType::float32, {end - begin, n});
+    matrix.middleRows(begin, end - begin) = Eigen::Map<const FloatRows>(array.data<float>(), end - begin, n);
+    next = end;
+  }
+  if (next != n)
+    throw core::bad_input(folder, "row blocks cover 0:" + std::to_string(next) + " of " + std::to_string(n) + " rows");
+  return matrix;
+}
+
+std::filesystem::path matrix_path(const std::filesystem::path& database) {
+  return database / "similarity" / "matrix.npy";
+}
+
+FloatRows read_matrix(const std::filesystem::path& database, long n) {
+  const core::NpyArray array = core::read_npy(matrix_path(database), core::DType::float32, {n, n});
+  return Eigen::Map<const FloatRows>(array.data<float>(), n, n);
+}
+
+void write_tree(const std::filesystem::path& database, const SimilarityTree& tree, const FrameList& frames) {
+  auto node_json = [&](int node) {
+    const std::string label = frames.label(node);
+    const std::size_t colon = label.rfind(':');
+    return core::Json{{"node", node}, {"sequence", label.substr(0, colon)}, {"frame", std::stoi(label.substr(colon + 1))}};
+  };
+  core::Json edges = core::Json::array();
+  for (const auto& edge : tree.edges)
+    edges.push_back({{"parent", edge.parent}, {"child", edge.child}, {"cost", edge.cost},
+                     {"depth", tree.depth[static_cast<std::size_t>(edge.child)]}});
+  core::Json nodes = core::Json::array();
+  for (long i = 0; i < static_cast<long>(tree.depth.size()); ++i) nodes.push_back(frames.label(i));
+  core::write_json_file(database / "similarity" / "tree.json",
+                        {{"format", core::format_tag("tree", 1)},
+                         {"root", node_json(tree.root)},
+                         {"threshold", tree.threshold},
+                         {"components_after_pruning", tree.components_after_pruning},
+                         {"joining_edges", tree.joining_edges},
+                         {"total_cost", tree.total_cost},
+                         {"weighted_depth", tree.weighted_depth},
+                         {"nodes", nodes},
+                         {"edges", edges}});
+}
+
+}  // namespace surfcap::similarity
