@@ -82,7 +82,7 @@ void run_similarity(const Arguments& args, const core::ToolApp& app) {
   report.figures()["rows"] = {begin, end};
   report.figures()["frames"] = index.frames();
   report.figures()["options"] = app.options_json();
-  const std::string name = args.rows.empty() ? "similarity.json" : "similarity-rows-" + std::to_string(begin) + "-" +
+  const std::string name = args.rows.empty() ? "similarity-matrix.json" : "similarity-rows-" + std::to_string(begin) + "-" +
                                                                        std::to_string(end) + ".json";
   report.write(std::filesystem::path(args.out) / "report" / name);
 }
