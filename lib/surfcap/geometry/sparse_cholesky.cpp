@@ -26,6 +26,8 @@ SparseCholesky::SparseCholesky(const Eigen::SparseMatrix<double>& A, Backend bac
   impl_->n = A.rows();
   if (backend != Backend::simplicial_ldlt) {
     impl_->cholmod.emplace();
+    // LLᵀ (not CHOLMOD's automatic LDLᵀ for small matrices), so an indefinite matrix fails.
+    impl_->cholmod->setMode(Eigen::CholmodSupernodalLLt);
     impl_->cholmod->compute(A);
     if (impl_->cholmod->info() == Eigen::Success) {
       impl_->backend = Backend::cholmod;

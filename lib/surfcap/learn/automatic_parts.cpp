@@ -1,5 +1,6 @@
 #include "surfcap/learn/automatic_parts.hpp"
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <deque>
