@@ -44,6 +44,30 @@ void BM_PartEdit(benchmark::State& state) {
 }
 BENCHMARK(BM_PartEdit)->Arg(400)->Arg(160)->Unit(benchmark::kMillisecond);
 
+// Every part moves: head, hands and feet dragged towards another pose, nothing anchored (the
+// root is placed by the coupled solve, then all five children are solved and recombined).
+void BM_PartEditAllParts(benchmark::State& state) {
+  const core::AlignedDatabase db = testing::figure_database(state.range(0) * 1e-4, 64, 7);
+  const learn::PartSet parts = learn::read_part_config(human6, db.template_mesh);
+  const learn::LearntModel model = learn::learn_part_models(db, parts, learn::strided_frames(db, 2), {});
+  const learn::PartEditor editor(model, {}, db.sequences[0].frames[10]);
+  std::set<int> chosen;
+  for (const char* region : {"head", "hand_l", "hand_r", "foot_l", "foot_r"})
+    chosen.insert(parts.regions.at(region).begin(), parts.regions.at(region).end());
+  const std::vector<int> vertices(chosen.begin(), chosen.end());
+  const auto handles = editor.prepare(vertices, std::vector<double>(vertices.size(), 1.0));
+  Eigen::MatrixXd targets(static_cast<Eigen::Index>(vertices.size()), 3);
+  int frame = 0;
+  for (auto _ : state) {
+    frame = (frame + 7) % 64;  // true positions of another frame
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      targets.row(static_cast<Eigen::Index>(i)) = db.sequences[0].frames[frame].row(vertices[i]);
+    benchmark::DoNotOptimize(editor.solve(*handles, targets));
+  }
+  state.counters["vertices"] = static_cast<double>(db.template_mesh.vertex_count());
+}
+BENCHMARK(BM_PartEditAllParts)->Arg(400)->Arg(160)->Unit(benchmark::kMillisecond);
+
 // Leave-out on dance: learn from every 4th frame, reconstruct held-out frames from head, hands, feet.
 void BM_DanceLeaveOut(benchmark::State& state) {
   const std::filesystem::path dance = std::filesystem::path(SURFCAP_SOURCE_DIR) / "../shared/data/dance";

@@ -191,12 +191,17 @@ Eigen::MatrixXd PartEditor::solve(const PreparedHandles& handles, const Eigen::M
         frontier_change = std::max(frontier_change, (X.row(v) - reference_.row(v)).norm());
       }
       // A part whose parent did not move and that holds no constraint keeps its pose.
-      if (handles.user[j].empty() && frontier_change < 1e-12) continue;
+      if (handles.user[j].empty() && frontier_change < 1e-9) continue;
       Eigen::MatrixXd local_targets(static_cast<Eigen::Index>(prepared->vertices.size()), 3);
+      double target_change = 0;
       for (std::size_t i = 0; i < prepared->vertices.size(); ++i) {
         const auto& [sum, total] = accumulated.at(prepared->vertices[i]);
         local_targets.row(static_cast<Eigen::Index>(i)) = (sum / total).transpose();
+        target_change = std::max(target_change, (local_targets.row(static_cast<Eigen::Index>(i)) -
+                                                 reference_.row(ps.vertices[prepared->vertices[i]])).norm());
       }
+      // Keeping the detail, the reference pose is the exact solution when every target is met by it.
+      if (options_.keep_detail && target_change < 1e-9) continue;
       part_result = ps.space->solve(*prepared, local_targets, options_.rotation_iterations);
     }
     // Recombination: frontier vertices blend linearly from the parent's result to the part's.
