@@ -1,0 +1,343 @@
+#include "surfcap/synth/capture.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "surfcap/core/database.hpp"
+#include "surfcap/core/error.hpp"
+#include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/npy.hpp"
+#include "surfcap/core/parallel.hpp"
+#include "surfcap/core/version.hpp"
+#include "surfcap/render/contact_sheet.hpp"
+#include "surfcap/render/png.hpp"
+#include "surfcap/synth/deformation.hpp"
+
+namespace surfcap::synth {
+namespace {
+
+std::string frame_name(int frame) {
+  char name[16];
+  std::snprintf(name, sizeof name, "%06d", frame);
+  return name;
+}
+
+BodyOptions body_options(const Scene& scene) {
+  BodyOptions options = scene.body;
+  options.seed = scene.seed;
+  return options;
+}
+
+/// One frame's outputs kept for the ground-truth database and the report.
+struct FrameSlot {
+  Eigen::MatrixXd V;
+  core::RootMotion root;
+  std::vector<Eigen::Vector3d> joints;
+  GarmentState garment;
+  long reconstruction_vertices = 0;
+  long reconstruction_faces = 0;
+  double noise_rms = 0;
+  double target_edge = 0;
+};
+
+struct Job {
+  int sequence, frame;
+};
+
+void write_frame(const Scene& scene, const Actor& actor, const std::vector<render::Camera>& cameras,
+                 const std::filesystem::path& directory, const Job& job, FrameSlot& slot) {
+  const MotionSpec& motion = scene.sequences[static_cast<std::size_t>(job.sequence)];
+  const PerformedFrame performed = actor.perform(scene, motion, job.frame);
+  core::Mesh truth;
+  truth.V = performed.V;
+  truth.F = actor.body.rest.F;
+  const double edge = mean_edge_length(actor.body.rest);
+  const Reconstruction reconstruction =
+      reconstruct(truth, edge, frame_seed(scene.seed, job.sequence, job.frame), scene.reconstruction);
+  core::Mesh mesh = reconstruction.mesh;
+  mesh.colors.resize(mesh.vertex_count(), 3);
+  for (long v = 0; v < mesh.vertex_count(); ++v)
+    mesh.colors.row(v) = surface_albedo(actor.body, actor.texture, reconstruction.face[static_cast<std::size_t>(v)],
+                                        reconstruction.barycentric.row(v).transpose())
+                             .transpose();
+  const std::string name = frame_name(job.frame);
+  const auto sequence_dir = directory / motion.name;
+  core::write_mesh(sequence_dir / "mesh" / (name + ".ply"), mesh);
+  const auto truth_dir = directory / "ground_truth" / motion.name / "correspondence";
+  std::vector<std::int32_t> faces(reconstruction.face.begin(), reconstruction.face.end());
+  core::write_npy(truth_dir / (name + ".face.npy"), faces.data(), {faces.size()});
+  core::write_npy_matrix<float>(truth_dir / (name + ".barycentric.npy"), reconstruction.barycentric);
+  if (scene.images) {
+    const render::RenderOptions options = actor.render_options();
+    for (const auto& camera : cameras)
+      render::write_png(sequence_dir / "images" / camera.name / (name + ".png"),
+                        render::render_mesh(truth, camera, options).image);
+  }
+  const Eigen::MatrixXd exact = surface_points(truth.V, truth.F, reconstruction.face, reconstruction.barycentric);
+  slot.noise_rms = std::sqrt((mesh.V - exact).rowwise().squaredNorm().mean());
+  slot.V = performed.V;
+  slot.root = {performed.pose.root.x(), performed.pose.root.y(), performed.pose.root.z(), performed.pose.heading};
+  slot.joints = performed.joints;
+  slot.garment = performed.garment;
+  slot.reconstruction_vertices = mesh.vertex_count();
+  slot.reconstruction_faces = mesh.face_count();
+  slot.target_edge = reconstruction.target_edge;
+}
+
+/// What the sequence's high-level parameter came out as, measured on the performed motion.
+core::Json measure_parameters(const MotionSpec& motion, const std::vector<FrameSlot>& slots, double fps) {
+  const FrameSlot& first = slots.front();
+  const FrameSlot& last = slots.back();
+  const double duration = (static_cast<double>(slots.size()) - 1) / fps;
+  core::Json measured = core::Json::object();
+  switch (motion.family) {
+    case MotionFamily::gait: {
+      double path = 0;
+      for (std::size_t t = 1; t < slots.size(); ++t)
+        path += std::hypot(slots[t].root.x - slots[t - 1].root.x, slots[t].root.z - slots[t - 1].root.z);
+      measured["speed"] = path / duration;
+      measured["turn_rate"] = (last.root.heading - first.root.heading) / duration * 180 / M_PI;
+      break;
+    }
+    case MotionFamily::jump: {
+      double top = first.root.y;
+      for (const auto& s : slots) top = std::max(top, s.root.y);
+      measured["jump_height"] = top - first.root.y;
+      measured["jump_distance"] = std::hypot(last.root.x - first.root.x, last.root.z - first.root.z);
+      break;
+    }
+    case MotionFamily::reach: {
+      double top = -1e9;
+      for (const auto& s : slots) top = std::max(top, s.joints[wrist_r].y());
+      measured["reach_height"] = top;
+      break;
+    }
+  }
+  return measured;
+}
+
+void write_database(const Scene& scene, const Actor& actor, const std::vector<std::vector<FrameSlot>>& slots,
+                    const std::filesystem::path& directory) {
+  core::AlignedDatabase database;
+  database.fps = scene.fps;
+  database.root_sequence = scene.sequences.front().name;
+  database.root_frame = 0;
+  database.template_mesh.F = actor.body.rest.F;
+  database.template_mesh.V = core::to_centred(slots[0][0].V, slots[0][0].root);
+  database.template_mesh.colors = vertex_albedo(actor.body, actor.texture);
+  for (std::size_t s = 0; s < scene.sequences.size(); ++s) {
+    core::AlignedSequence sequence;
+    sequence.name = scene.sequences[s].name;
+    for (const auto& slot : slots[s]) {
+      sequence.frames.push_back(core::to_centred(slot.V, slot.root));
+      sequence.root_motion.push_back(slot.root);
+    }
+    database.sequences.push_back(std::move(sequence));
+  }
+  database.provenance = {{"tool", "surfcap-synth"}, {"version", std::string(core::version())},
+                         {"scene", scene_to_json(scene)}, {"kind", "ground truth"}};
+  core::write_database(directory, database);
+}
+
+void write_ground_truth(const Scene& scene, const Actor& actor, const std::vector<std::vector<FrameSlot>>& slots,
+                        const std::filesystem::path& directory) {
+  const auto& body = actor.body;
+  const auto& sk = body.skeleton;
+  core::Mesh rest = body.rest;
+  rest.colors = vertex_albedo(body, actor.texture);
+  core::write_mesh(directory / "template_rest.ply", rest);
+  core::write_npy_matrix<float>(directory / "skin_weights.npy", body.skin_weights);
+  core::write_npy_matrix<float>(directory / "garment_weights.npy", body.garment_weight);
+  std::vector<std::int32_t> regions;
+  for (const auto r : body.regions) regions.push_back(static_cast<std::int32_t>(r));
+  core::write_npy(directory / "regions.npy", regions.data(), {regions.size()});
+  write_database(scene, actor, slots, directory / "database");
+
+  core::Json joints = core::Json::array();
+  for (int j = 0; j < sk.size(); ++j)
+    joints.push_back({{"name", sk.names[j]}, {"parent", sk.parents[j]},
+                      {"rest", {sk.rest[j].x(), sk.rest[j].y(), sk.rest[j].z()}}});
+  core::Json sequences = core::Json::array();
+  for (std::size_t s = 0; s < scene.sequences.size(); ++s) {
+    const auto& motion = scene.sequences[s];
+    const auto& frames = slots[s];
+    std::vector<float> joint_positions, garment;
+    for (const auto& slot : frames) {
+      for (const auto& p : slot.joints) joint_positions.insert(joint_positions.end(), {float(p.x()), float(p.y()), float(p.z())});
+      garment.insert(garment.end(), {float(slot.garment.swing_back), float(slot.garment.swing_side),
+                                     float(slot.garment.flare), float(slot.garment.twist)});
+    }
+    const std::size_t T = frames.size();
+    core::write_npy(directory / motion.name / "joints.npy", joint_positions.data(), {T, static_cast<std::size_t>(sk.size()), 3});
+    core::write_npy(directory / motion.name / "garment.npy", garment.data(), {T, 4});
+    core::Json entry = motion_to_json(motion);
+    entry.update({{"cyclic", motion.cyclic()},
+                  {"measured", measure_parameters(motion, frames, scene.fps)},
+                  {"joints", motion.name + "/joints.npy"},
+                  {"garment", motion.name + "/garment.npy"},
+                  {"correspondence_face", motion.name + "/correspondence/{frame:06d}.face.npy"},
+                  {"correspondence_barycentric", motion.name + "/correspondence/{frame:06d}.barycentric.npy"}});
+    sequences.push_back(entry);
+  }
+  const core::Json truth = {{"format", core::format_tag("synth_truth", 1)},
+                            {"scene", scene_to_json(scene)},
+                            {"version", std::string(core::version())},
+                            {"database", "database/database.json"},
+                            {"template_rest", "template_rest.ply"},
+                            {"skin_weights", "skin_weights.npy"},
+                            {"garment_weights", "garment_weights.npy"},
+                            {"regions", "regions.npy"},
+                            {"region_names", {"skin", "hair", "shirt", "skirt", "trousers", "shoes"}},
+                            {"skeleton", joints},
+                            {"noise_sigma", scene.reconstruction.noise_sigma},
+                            {"sequences", sequences}};
+  core::write_json_file(directory / "truth.json", truth);
+}
+
+void write_contact_sheet(const Scene& scene, const Actor& actor, const std::vector<render::Camera>& cameras,
+                         const std::vector<std::vector<FrameSlot>>& slots, const std::filesystem::path& path) {
+  std::vector<Job> picks;
+  const long total = scene.total_frames();
+  const int count = static_cast<int>(std::min<long>(std::max(1, scene.contact_sheet_frames), total));
+  for (int i = 0; i < count; ++i) {
+    long global = count == 1 ? 0 : (total - 1) * i / (count - 1);
+    int s = 0;
+    while (global >= scene.sequences[static_cast<std::size_t>(s)].frames) global -= scene.sequences[static_cast<std::size_t>(s++)].frames;
+    picks.push_back({s, static_cast<int>(global)});
+  }
+  std::vector<int> views = {0};
+  if (cameras.size() > 1) views.push_back(static_cast<int>(cameras.size() / 4 > 0 ? cameras.size() / 4 : 1));
+  std::vector<render::Image> images;
+  render::ContactSheetOptions options;
+  options.columns = count;
+  options.scale = scene.studio.width > 400 ? 0.5 : 1.0;
+  const render::RenderOptions render_options = actor.render_options();
+  for (int view : views)
+    for (const auto& pick : picks) {
+      core::Mesh truth;
+      truth.V = slots[static_cast<std::size_t>(pick.sequence)][static_cast<std::size_t>(pick.frame)].V;
+      truth.F = actor.body.rest.F;
+      images.push_back(render::render_mesh(truth, cameras[static_cast<std::size_t>(view)], render_options).image);
+      options.labels.push_back(scene.sequences[static_cast<std::size_t>(pick.sequence)].name + " " +
+                               frame_name(pick.frame) + " " + cameras[static_cast<std::size_t>(view)].name);
+    }
+  render::write_png(path, render::contact_sheet(images, options));
+}
+
+void write_capture_json(const Scene& scene, const std::filesystem::path& directory) {
+  core::Json sequences = core::Json::array();
+  for (const auto& motion : scene.sequences) {
+    core::Json entry = {{"name", motion.name}, {"frames", motion.name + "/mesh/{frame:06d}.ply"},
+                        {"first", 0}, {"count", motion.frames}};
+    if (scene.images) entry["images"] = motion.name + "/images/{camera}/{frame:06d}.png";
+    sequences.push_back(entry);
+  }
+  core::write_json_file(directory / "capture.json", {{"format", core::format_tag("capture", 1)},
+                                                     {"name", scene.name},
+                                                     {"units", "m"},
+                                                     {"up", "y"},
+                                                     {"fps", scene.fps},
+                                                     {"cameras", "cameras.json"},
+                                                     {"sequences", sequences}});
+}
+
+}  // namespace
+
+std::uint64_t frame_seed(int scene_seed, int sequence, int frame) {
+  return (static_cast<std::uint64_t>(scene_seed) * 0x9e3779b97f4a7c15ULL) ^
+         (static_cast<std::uint64_t>(sequence + 1) << 32) ^ static_cast<std::uint64_t>(frame + 1);
+}
+
+Actor::Actor(const Scene& scene)
+    : body(make_body(body_options(scene))),
+      texture(static_cast<std::uint64_t>(scene.seed), 0.05 * scene.body.height / 1.75),
+      rest_normals(core::vertex_normals(body.rest.V, body.rest.F)) {}
+
+PerformedFrame Actor::perform(const Scene& scene, const MotionSpec& motion, int frame) const {
+  PerformedFrame result;
+  const double time = frame / scene.fps;
+  result.pose = pose_at(body.skeleton, motion, scene.fps, time);
+  result.garment = garment_at(body.skeleton, motion, scene.fps, time, scene.garment);
+  result.V = deform_body(body, rest_normals, result.pose, result.garment);
+  result.joints = forward_kinematics(body.skeleton, result.pose).position;
+  return result;
+}
+
+render::RenderOptions Actor::render_options() const {
+  render::RenderOptions options;
+  options.background = Eigen::Vector3d(0.55, 0.57, 0.60);
+  options.ambient = 0.45;
+  options.diffuse = 0.55;
+  options.surface_color = [this](long face, const Eigen::Vector3d& b) {
+    return surface_albedo(body, texture, face, b);
+  };
+  return options;
+}
+
+void generate_capture(const Scene& scene, const std::filesystem::path& directory, int threads,
+                      core::StageReport& report, const core::ProgressCallback& progress) {
+  scene.validate();
+  auto actor_timer = report.time("actor");
+  const Actor actor(scene);
+  actor_timer.stop();
+  const core::MeshCheck check = core::check_mesh(actor.body.rest);
+  if (!check.closed() || !check.manifold())
+    throw core::internal_error("the actor's template is not a closed manifold: " + check.summary());
+  spdlog::info("actor: {} vertices, {} faces", actor.body.rest.vertex_count(), actor.body.rest.face_count());
+
+  const auto& studio = scene.studio;
+  const auto cameras = render::ring_cameras(studio.cameras, studio.radius, studio.elevation, studio.target, studio.fov,
+                                            studio.width, studio.height);
+  std::vector<Job> jobs;
+  std::vector<std::vector<FrameSlot>> slots;
+  for (int s = 0; s < static_cast<int>(scene.sequences.size()); ++s) {
+    slots.emplace_back(static_cast<std::size_t>(scene.sequences[static_cast<std::size_t>(s)].frames));
+    for (int t = 0; t < scene.sequences[static_cast<std::size_t>(s)].frames; ++t) jobs.push_back({s, t});
+  }
+  {
+    auto timer = report.time("frames");
+    std::atomic<std::size_t> done{0};
+    core::parallel_for(static_cast<long>(jobs.size()), threads, [&](long i) {
+      const Job& job = jobs[static_cast<std::size_t>(i)];
+      write_frame(scene, actor, cameras, directory, job,
+                  slots[static_cast<std::size_t>(job.sequence)][static_cast<std::size_t>(job.frame)]);
+      if (progress) progress(++done, jobs.size());
+    });
+  }
+  {
+    auto timer = report.time("ground_truth");
+    write_ground_truth(scene, actor, slots, directory / "ground_truth");
+    write_contact_sheet(scene, actor, cameras, slots, directory / "ground_truth" / "contact_sheet.png");
+    render::write_cameras(directory / "cameras.json", cameras);
+  }
+  // Last: a capture.json means the folder is complete.
+  write_capture_json(scene, directory);
+
+  long min_vertices = std::numeric_limits<long>::max(), max_vertices = 0;
+  double noise_sum = 0;
+  for (const auto& sequence : slots)
+    for (const auto& slot : sequence) {
+      min_vertices = std::min(min_vertices, slot.reconstruction_vertices);
+      max_vertices = std::max(max_vertices, slot.reconstruction_vertices);
+      noise_sum += slot.noise_rms * slot.noise_rms;
+    }
+  auto& figures = report.figures();
+  figures["scene"] = scene.name;
+  figures["seed"] = scene.seed;
+  figures["frames"] = static_cast<long>(jobs.size());
+  figures["sequences"] = static_cast<long>(scene.sequences.size());
+  figures["cameras"] = studio.cameras;
+  figures["images"] = scene.images ? static_cast<long>(jobs.size()) * studio.cameras : 0L;
+  figures["template"] = {{"vertices", actor.body.rest.vertex_count()}, {"faces", actor.body.rest.face_count()},
+                         {"mean_edge_m", mean_edge_length(actor.body.rest)}};
+  figures["reconstructions"] = {{"min_vertices", min_vertices}, {"max_vertices", max_vertices},
+                                {"noise_rms_mm", 1000 * std::sqrt(noise_sum / static_cast<double>(jobs.size()))}};
+  core::Json parameters = core::Json::object();
+  for (std::size_t s = 0; s < scene.sequences.size(); ++s)
+    parameters[scene.sequences[s].name] = measure_parameters(scene.sequences[s], slots[s], scene.fps);
+  figures["measured_parameters"] = parameters;
+}
+
+}  // namespace surfcap::synth

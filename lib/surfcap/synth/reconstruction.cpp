@@ -1,0 +1,136 @@
+#include "surfcap/synth/reconstruction.hpp"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/random_perturbation.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <cmath>
+#include <random>
+
+#include "surfcap/core/error.hpp"
+
+namespace surfcap::synth {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+SurfaceMesh to_surface_mesh(const core::Mesh& mesh) {
+  SurfaceMesh result;
+  std::vector<SurfaceMesh::Vertex_index> vertices;
+  for (long v = 0; v < mesh.vertex_count(); ++v)
+    vertices.push_back(result.add_vertex(Point(mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2))));
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (result.add_face(vertices[mesh.F(f, 0)], vertices[mesh.F(f, 1)], vertices[mesh.F(f, 2)]) ==
+        SurfaceMesh::null_face())
+      throw core::internal_error("reconstruct: the true surface is not manifold at face " + std::to_string(f));
+  return result;
+}
+
+core::Mesh to_mesh(SurfaceMesh& mesh) {
+  mesh.collect_garbage();
+  core::Mesh result;
+  result.V.resize(static_cast<long>(mesh.number_of_vertices()), 3);
+  for (auto v : mesh.vertices()) {
+    const Point& p = mesh.point(v);
+    result.V.row(static_cast<long>(v.idx())) << p.x(), p.y(), p.z();
+  }
+  result.F.resize(static_cast<long>(mesh.number_of_faces()), 3);
+  for (auto f : mesh.faces()) {
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+      result.F(static_cast<long>(f.idx()), k++) = static_cast<int>(v.idx());
+  }
+  return result;
+}
+
+Eigen::Vector3d barycentric_of(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                               const Eigen::Vector3d& c) {
+  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double denominator = d00 * d11 - d01 * d01;
+  if (std::abs(denominator) < 1e-30) return Eigen::Vector3d(1, 0, 0);
+  const double v = (d11 * d20 - d01 * d21) / denominator, w = (d00 * d21 - d01 * d20) / denominator;
+  Eigen::Vector3d result(1 - v - w, v, w);
+  result = result.cwiseMax(0.0);
+  return result / result.sum();
+}
+
+/// Standard normal numbers from a 64-bit Mersenne Twister by Box–Muller: the same on every platform.
+struct Gaussian {
+  std::mt19937_64 engine;
+  double next() {
+    const double u1 = (static_cast<double>(engine() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+    const double u2 = static_cast<double>(engine() >> 11) * (1.0 / 9007199254740992.0);
+    return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+  }
+};
+
+}  // namespace
+
+double mean_edge_length(const core::Mesh& mesh) {
+  double sum = 0;
+  for (long f = 0; f < mesh.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) sum += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
+  return mesh.face_count() > 0 ? sum / (3.0 * mesh.face_count()) : 0.0;
+}
+
+Eigen::MatrixXd surface_points(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& face,
+                               const Eigen::MatrixXd& barycentric) {
+  Eigen::MatrixXd points(static_cast<long>(face.size()), 3);
+  for (long i = 0; i < points.rows(); ++i) {
+    const int f = face[static_cast<std::size_t>(i)];
+    points.row(i) = barycentric(i, 0) * V.row(F(f, 0)) + barycentric(i, 1) * V.row(F(f, 1)) + barycentric(i, 2) * V.row(F(f, 2));
+  }
+  return points;
+}
+
+Reconstruction reconstruct(const core::Mesh& truth, double edge, std::uint64_t seed,
+                           const ReconstructionOptions& options) {
+  Reconstruction result;
+  std::mt19937_64 engine(seed);
+  const double u = static_cast<double>(engine() >> 11) * (1.0 / 9007199254740992.0);
+  result.target_edge = edge * (1.0 + options.edge_jitter * (2 * u - 1));
+
+  const SurfaceMesh reference = to_surface_mesh(truth);
+  SurfaceMesh mesh = reference;
+  PMP::random_perturbation(mesh, 0.3 * edge,
+                           PMP::parameters::random_seed(static_cast<unsigned>(engine() & 0x7fffffff)).do_project(true));
+  PMP::isotropic_remeshing(faces(mesh), result.target_edge, mesh,
+                           PMP::parameters::number_of_iterations(options.iterations));
+  result.mesh = to_mesh(mesh);
+
+  Tree tree(faces(reference).first, faces(reference).second, reference);
+  tree.accelerate_distance_queries();
+  const long n = result.mesh.vertex_count();
+  result.face.resize(static_cast<std::size_t>(n));
+  result.barycentric.resize(n, 3);
+  for (long v = 0; v < n; ++v) {
+    const Point p(result.mesh.V(v, 0), result.mesh.V(v, 1), result.mesh.V(v, 2));
+    const auto [closest, primitive] = tree.closest_point_and_primitive(p);
+    const int f = static_cast<int>(primitive.idx());
+    result.face[static_cast<std::size_t>(v)] = f;
+    const Eigen::Vector3d q(closest.x(), closest.y(), closest.z());
+    result.barycentric.row(v) = barycentric_of(q, truth.V.row(truth.F(f, 0)).transpose(),
+                                               truth.V.row(truth.F(f, 1)).transpose(),
+                                               truth.V.row(truth.F(f, 2)).transpose()).transpose();
+  }
+  // The reconstruction's noise-free vertices are exactly its true surface points.
+  result.mesh.V = surface_points(truth.V, truth.F, result.face, result.barycentric);
+  if (options.noise_sigma > 0) {
+    const Eigen::MatrixXd normals = core::vertex_normals(result.mesh.V, result.mesh.F);
+    Gaussian gaussian{std::mt19937_64(seed ^ 0x5eed5eed5eedULL)};
+    for (long v = 0; v < n; ++v) result.mesh.V.row(v) += options.noise_sigma * gaussian.next() * normals.row(v);
+  }
+  return result;
+}
+
+}  // namespace surfcap::synth

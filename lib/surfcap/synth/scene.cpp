@@ -1,0 +1,194 @@
+#include "surfcap/synth/scene.hpp"
+
+#include <set>
+
+#include "surfcap/core/error.hpp"
+
+namespace surfcap::synth {
+namespace {
+
+MotionSpec gait(const std::string& name, int frames, int cycles, double speed, double turn_rate = 0) {
+  MotionSpec m;
+  m.name = name;
+  m.family = MotionFamily::gait;
+  m.frames = frames;
+  m.cycles = cycles;
+  m.speed = speed;
+  m.turn_rate = turn_rate;
+  return m;
+}
+
+MotionSpec jump(const std::string& name, int frames, double height, double distance) {
+  MotionSpec m;
+  m.name = name;
+  m.family = MotionFamily::jump;
+  m.frames = frames;
+  m.jump_height = height;
+  m.jump_distance = distance;
+  return m;
+}
+
+MotionSpec reach(const std::string& name, int frames, double height) {
+  MotionSpec m;
+  m.name = name;
+  m.family = MotionFamily::reach;
+  m.frames = frames;
+  m.reach_height = height;
+  return m;
+}
+
+template <class T>
+void read(const core::Json& object, const char* key, T& value, const std::string& source) {
+  if (!object.contains(key)) return;
+  try {
+    value = object.at(key).get<T>();
+  } catch (const core::Json::exception& e) {
+    throw core::bad_arguments(source + ": field \"" + key + "\" has the wrong type: " + e.what());
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> preset_names() { return {"tiny", "demo", "full"}; }
+
+Scene preset_scene(const std::string& name) {
+  Scene scene;
+  scene.name = name;
+  if (name == "tiny") {
+    scene.body.target_vertices = 1000;
+    scene.studio.cameras = 4;
+    scene.studio.width = 320;
+    scene.studio.height = 240;
+    scene.sequences = {gait("walk", 24, 1, 1.3), gait("run", 20, 1, 3.0)};
+  } else if (name == "demo") {
+    scene.body.target_vertices = 3000;
+    scene.sequences = {gait("walk", 28, 1, 1.3), gait("run", 36, 2, 3.0), jump("jump_low", 40, 0.15, 0.3),
+                       jump("jump_high", 40, 0.45, 0.3)};
+  } else if (name == "full") {
+    scene.body.target_vertices = 3000;
+    scene.sequences = {gait("walk", 28, 1, 1.3),           gait("run", 36, 2, 3.0),
+                       gait("walk_left", 56, 2, 1.3, 40),   gait("walk_right", 56, 2, 1.3, -40),
+                       jump("jump_low", 40, 0.15, 0.3),     jump("jump_high", 40, 0.45, 0.3),
+                       jump("jump_short", 40, 0.25, 0.2),   jump("jump_long", 44, 0.25, 1.0),
+                       reach("reach_low", 50, 0.85),        reach("reach_high", 50, 2.0)};
+  } else {
+    throw core::bad_arguments("unknown preset '" + name + "' (tiny, demo or full)");
+  }
+  return scene;
+}
+
+void Scene::validate() const {
+  auto fail = [&](const std::string& what) { return core::bad_arguments("scene '" + name + "': " + what); };
+  if (!(fps > 0 && fps <= 240)) throw fail("fps must be in (0, 240]");
+  if (body.target_vertices < 200 || body.target_vertices > 200000) throw fail("actor vertices must be in [200, 200000]");
+  if (!(body.height > 0.5 && body.height < 2.5)) throw fail("actor height must be in (0.5, 2.5) m");
+  if (studio.cameras < 1 || studio.cameras > 64) throw fail("cameras must be in [1, 64]");
+  if (studio.width < 16 || studio.height < 16 || studio.width > 8192 || studio.height > 8192)
+    throw fail("image size must be in [16, 8192] pixels");
+  if (!(studio.fov > 1 && studio.fov < 170)) throw fail("fov must be in (1, 170) degrees");
+  if (!(studio.radius > 0.5)) throw fail("camera radius must exceed 0.5 m");
+  if (!(reconstruction.noise_sigma >= 0 && reconstruction.noise_sigma < 0.05)) throw fail("noise must be in [0, 50) mm");
+  if (!(reconstruction.edge_jitter >= 0 && reconstruction.edge_jitter < 0.5)) throw fail("edge_jitter must be in [0, 0.5)");
+  if (reconstruction.iterations < 1 || reconstruction.iterations > 20) throw fail("iterations must be in [1, 20]");
+  if (sequences.empty()) throw fail("no sequences");
+  std::set<std::string> names;
+  for (const auto& s : sequences)
+    if (!names.insert(s.name).second) throw fail("two sequences are named '" + s.name + "'");
+}
+
+long Scene::total_frames() const {
+  long total = 0;
+  for (const auto& s : sequences) total += s.frames;
+  return total;
+}
+
+core::Json scene_to_json(const Scene& s) {
+  core::Json sequences = core::Json::array();
+  for (const auto& m : s.sequences) sequences.push_back(motion_to_json(m));
+  return {{"format", core::format_tag("synth_scene", 1)},
+          {"name", s.name},
+          {"fps", s.fps},
+          {"seed", s.seed},
+          {"images", s.images},
+          {"contact_sheet_frames", s.contact_sheet_frames},
+          {"actor", {{"height", s.body.height}, {"vertices", s.body.target_vertices}}},
+          {"studio",
+           {{"cameras", s.studio.cameras},
+            {"width", s.studio.width},
+            {"height", s.studio.height},
+            {"radius", s.studio.radius},
+            {"elevation", s.studio.elevation},
+            {"fov", s.studio.fov},
+            {"target", {s.studio.target.x(), s.studio.target.y(), s.studio.target.z()}}}},
+          {"reconstruction",
+           {{"edge_jitter", s.reconstruction.edge_jitter},
+            {"noise_mm", s.reconstruction.noise_sigma * 1000},
+            {"iterations", s.reconstruction.iterations}}},
+          {"garment",
+           {{"natural_frequency", s.garment.natural_frequency},
+            {"damping", s.garment.damping},
+            {"drag", s.garment.drag}}},
+          {"sequences", sequences}};
+}
+
+Scene scene_from_json(const core::Json& d, const std::string& source) {
+  if (!d.is_object()) throw core::bad_arguments(source + ": a scene must be a JSON object");
+  if (d.contains("format") && d.at("format") != core::format_tag("synth_scene", 1))
+    throw core::bad_arguments(source + ": format must be \"" + core::format_tag("synth_scene", 1) + "\"");
+  Scene s;
+  read(d, "name", s.name, source);
+  read(d, "fps", s.fps, source);
+  read(d, "seed", s.seed, source);
+  read(d, "images", s.images, source);
+  read(d, "contact_sheet_frames", s.contact_sheet_frames, source);
+  if (d.contains("actor")) {
+    read(d["actor"], "height", s.body.height, source);
+    read(d["actor"], "vertices", s.body.target_vertices, source);
+  }
+  if (d.contains("studio")) {
+    const auto& c = d["studio"];
+    read(c, "cameras", s.studio.cameras, source);
+    read(c, "width", s.studio.width, source);
+    read(c, "height", s.studio.height, source);
+    read(c, "radius", s.studio.radius, source);
+    read(c, "elevation", s.studio.elevation, source);
+    read(c, "fov", s.studio.fov, source);
+    std::vector<double> target;
+    read(c, "target", target, source);
+    if (!target.empty()) {
+      if (target.size() != 3) throw core::bad_arguments(source + ": studio.target must hold 3 numbers");
+      s.studio.target = Eigen::Vector3d(target[0], target[1], target[2]);
+    }
+  }
+  if (d.contains("reconstruction")) {
+    const auto& r = d["reconstruction"];
+    read(r, "edge_jitter", s.reconstruction.edge_jitter, source);
+    double noise_mm = s.reconstruction.noise_sigma * 1000;
+    read(r, "noise_mm", noise_mm, source);
+    s.reconstruction.noise_sigma = noise_mm / 1000;
+    read(r, "iterations", s.reconstruction.iterations, source);
+  }
+  if (d.contains("garment")) {
+    read(d["garment"], "natural_frequency", s.garment.natural_frequency, source);
+    read(d["garment"], "damping", s.garment.damping, source);
+    read(d["garment"], "drag", s.garment.drag, source);
+  }
+  if (d.contains("sequences")) {
+    if (!d["sequences"].is_array()) throw core::bad_arguments(source + ": \"sequences\" must be an array");
+    for (const auto& entry : d["sequences"]) s.sequences.push_back(motion_from_json(entry, source));
+  }
+  s.validate();
+  return s;
+}
+
+Scene read_scene(const std::filesystem::path& path) {
+  core::Json document;
+  try {
+    document = core::read_json_file(path);
+  } catch (const core::Error& e) {
+    throw core::bad_arguments(std::string("--scene: ") + e.what());
+  }
+  return scene_from_json(document, path.string());
+}
+
+}  // namespace surfcap::synth
