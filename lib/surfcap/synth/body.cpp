@@ -12,6 +12,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "surfcap/core/error.hpp"
 
@@ -98,6 +101,20 @@ Region region_of(const Skeleton& sk, int bone, const Eigen::Vector3d& p, double 
     case ankle_l: case ankle_r: case toe_l: case toe_r: return Region::shoes;
     default: return Region::shirt;
   }
+}
+
+/// CGAL's surface mesher breaks ties by memory address, so a second meshing in the same process
+/// (another heap state) may differ; one mesh per options per process keeps every Actor identical.
+core::Mesh cached_template(const Skeleton& skeleton, const BodyOptions& options) {
+  static std::mutex mutex;
+  static std::map<std::tuple<double, int, int, double, double, double, double, double>, core::Mesh> cache;
+  const auto& k = options.skirt;
+  const auto key = std::make_tuple(options.height, options.target_vertices, options.seed, k.waist_height,
+                                   k.waist_radius, k.hem_height, k.hem_radius, k.depth_scale);
+  std::lock_guard lock(mutex);
+  if (const auto it = cache.find(key); it != cache.end()) return it->second;
+  const BodyField field(skeleton, options.skirt);
+  return cache[key] = mesh_implicit_surface(field, options.target_vertices, options.seed);
 }
 
 }  // namespace
@@ -202,8 +219,7 @@ Body make_body(const BodyOptions& options) {
   body.skeleton = make_skeleton(options.height);
   const double s = options.height / 1.75;
   body.skirt = scaled(options.skirt, s);
-  const BodyField field(body.skeleton, options.skirt);
-  body.rest = mesh_implicit_surface(field, options.target_vertices, options.seed);
+  body.rest = cached_template(body.skeleton, options);
   const long n = body.rest.vertex_count();
   body.skin_weights.resize(n, body.skeleton.size());
   body.garment_weight.resize(n);

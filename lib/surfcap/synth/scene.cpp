@@ -70,7 +70,7 @@ Scene preset_scene(const std::string& name) {
                        gait("walk_left", 56, 2, 1.3, 40),   gait("walk_right", 56, 2, 1.3, -40),
                        jump("jump_low", 40, 0.15, 0.3),     jump("jump_high", 40, 0.45, 0.3),
                        jump("jump_short", 40, 0.25, 0.2),   jump("jump_long", 44, 0.25, 1.0),
-                       reach("reach_low", 50, 0.85),        reach("reach_high", 50, 2.0)};
+                       reach("reach_low", 50, 0.85),        reach("reach_high", 50, 1.85)};
   } else {
     throw core::bad_arguments("unknown preset '" + name + "' (tiny, demo or full)");
   }
