@@ -63,13 +63,18 @@ ShapeHistogramOptions ShapeHistogramOptions::from_json(const core::Json& json) {
 }
 
 Eigen::VectorXd shape_histogram(const core::Mesh& mesh, const ShapeHistogramOptions& options) {
-  const Eigen::MatrixXd samples = interior_samples(mesh, options.voxel_size);
-  if (samples.rows() == 0)
+  const VolumeSampler sampler(mesh, options.voxel_size);
+  // First pass: volume and centroid.
+  double total = 0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  sampler.visit([&](double x, double y, double z, double fraction) {
+    total += fraction;
+    moment += fraction * Eigen::Vector3d(x, y, z);
+  });
+  if (total <= 0)
     throw core::Error(core::ExitCode::bad_input, "the surface encloses no volume at voxel size " +
                                                      std::to_string(options.voxel_size) + " m");
-  const Eigen::VectorXd fractions = samples.col(3);
-  const double total = fractions.sum();
-  const Eigen::RowVector3d centroid = (samples.leftCols<3>().transpose() * fractions).transpose() / total;
+  const Eigen::RowVector3d centroid = (moment / total).transpose();
   const int order = options.azimuth_order;
   const int stride = 2 * order + 1;
   Eigen::VectorXd histogram = Eigen::VectorXd::Zero(options.size());
@@ -81,9 +86,10 @@ Eigen::VectorXd shape_histogram(const core::Mesh& mesh, const ShapeHistogramOpti
     low = std::min(bins - 1, static_cast<int>(centre));
     low_weight = 1.0 - (centre - low);
   };
-  for (long s = 0; s < samples.rows(); ++s) {
-    const Eigen::RowVector3d p = samples.row(s).head<3>() - centroid;
-    const double weight = samples(s, 3) / total;
+  // Second pass: binning.
+  sampler.visit([&](double x, double y, double z, double fraction) {
+    const Eigen::RowVector3d p = Eigen::RowVector3d(x, y, z) - centroid;
+    const double weight = fraction / total;
     const double radius = p.norm();
     const double polar = radius > 0 ? std::acos(std::clamp(p(1) / radius, -1.0, 1.0)) : 0.0;
     int shell, elevation;
@@ -117,7 +123,7 @@ Eigen::VectorXd shape_histogram(const core::Mesh& mesh, const ShapeHistogramOpti
         }
       }
     }
-  }
+  });
   return histogram;
 }
 

@@ -15,7 +15,7 @@ struct Crossing {
 
 }  // namespace
 
-Eigen::MatrixXd interior_samples(const core::Mesh& mesh, double spacing) {
+VolumeSampler::VolumeSampler(const core::Mesh& mesh, double spacing) : spacing_(spacing) {
   const auto& V = mesh.V;
   const auto& F = mesh.F;
   const Eigen::RowVector3d low = V.colwise().minCoeff(), high = V.colwise().maxCoeff();
@@ -24,7 +24,7 @@ Eigen::MatrixXd interior_samples(const core::Mesh& mesh, double spacing) {
   auto last_index = [&](double value) { return static_cast<long>(std::floor(value / spacing - 0.5)); };
   const long x0 = first_index(low(0)), x1 = last_index(high(0));
   const long z0 = first_index(low(2)), z1 = last_index(high(2));
-  if (x1 < x0 || z1 < z0) return Eigen::MatrixXd(0, 4);
+  if (x1 < x0 || z1 < z0) return;
   const long nx = x1 - x0 + 1, nz = z1 - z0 + 1;
   std::vector<std::vector<Crossing>> columns(static_cast<std::size_t>(nx * nz));
   // Column centres are nudged by an irrational fraction of a cell so that rays never pass
@@ -57,27 +57,26 @@ Eigen::MatrixXd interior_samples(const core::Mesh& mesh, double spacing) {
     }
   }
 
-  std::vector<double> samples;
   for (long i = 0; i < nx; ++i) {
     for (long k = 0; k < nz; ++k) {
       auto& crossings = columns[static_cast<std::size_t>(i * nz + k)];
       if (crossings.size() < 2) continue;
       std::sort(crossings.begin(), crossings.end());
       int winding = 0;
+      const double x = (static_cast<double>(i + x0) + 0.5) * spacing, z = (static_cast<double>(k + z0) + 0.5) * spacing;
       for (std::size_t c = 0; c + 1 < crossings.size(); ++c) {
         winding += crossings[c].direction;
-        if (winding <= 0) continue;
-        const double low = crossings[c].y, high = crossings[c + 1].y;
-        const double x = (static_cast<double>(i + x0) + 0.5) * spacing, z = (static_cast<double>(k + z0) + 0.5) * spacing;
-        for (long j = static_cast<long>(std::floor(low / spacing)); static_cast<double>(j) * spacing < high; ++j) {
-          const double bottom = std::max(low, static_cast<double>(j) * spacing);
-          const double top = std::min(high, static_cast<double>(j + 1) * spacing);
-          if (top <= bottom) continue;
-          samples.insert(samples.end(), {x, 0.5 * (bottom + top), z, (top - bottom) / spacing});
-        }
+        if (winding > 0 && crossings[c + 1].y > crossings[c].y)
+          intervals_.push_back({x, z, crossings[c].y, crossings[c + 1].y});
       }
     }
   }
+}
+
+Eigen::MatrixXd interior_samples(const core::Mesh& mesh, double spacing) {
+  const VolumeSampler sampler(mesh, spacing);
+  std::vector<double> samples;
+  sampler.visit([&](double x, double y, double z, double fraction) { samples.insert(samples.end(), {x, y, z, fraction}); });
   return Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>>(
       samples.data(), static_cast<long>(samples.size() / 4), 4);
 }
