@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian packages surfcap needs (only those missing) and builds Release into build/.
-# Usage: scripts/setup.sh [--benchmarks] [--sanitize] [--build-dir DIR]
+# Usage: scripts/setup.sh [--benchmarks] [--sanitize] [--build-dir DIR] [--deps-only]
 # Environment: SURFCAP_JOBS (default: nproc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build_dir=build
 cmake_options=()
+build=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --benchmarks) cmake_options+=(-DSURFCAP_BUILD_BENCHMARKS=ON) ;;
     --sanitize) cmake_options+=(-DSURFCAP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo) ;;
     --build-dir) build_dir="$2"; shift ;;
+    --deps-only) build=0 ;;
     *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -39,6 +41,7 @@ else
   echo "setup: all ${#packages[@]} packages present"
 fi
 
+[ "$build" -eq 1 ] || exit 0
 jobs=${SURFCAP_JOBS:-$(nproc)}
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${cmake_options[@]}" > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }

@@ -62,7 +62,17 @@ std::vector<CaptureCamera> read_cameras(const std::filesystem::path& file) {
   return cameras;
 }
 
+std::vector<CaptureCamera> read_cameras_checked(const std::filesystem::path& file) {
+  try {
+    return read_cameras(file);
+  } catch (const nlohmann::json::exception& e) {
+    throw bad_input(file, std::string("a field has the wrong type: ") + e.what());
+  }
+}
+
 }  // namespace
+
+static Capture read_capture_document(const std::filesystem::path& file);
 
 long Capture::total_frames() const {
   long total = 0;
@@ -77,7 +87,7 @@ int Capture::sequence_index(const std::string& wanted) const {
 }
 
 std::string expand_pattern(const std::string& pattern, int frame, const std::string& camera) {
-  static const std::regex field(R"(\{(frame|camera)(?::0?(\d+)d)?\})");
+  static const std::regex field(R"(\{(frame|camera)(?::0?(\d{1,2})d)?\})");
   std::string out;
   auto begin = pattern.cbegin();
   for (std::sregex_iterator it(pattern.begin(), pattern.end(), field), end; it != end; ++it) {
@@ -108,6 +118,14 @@ std::filesystem::path Capture::image_path(int sequence, int frame, int camera) c
 
 Capture read_capture(const std::filesystem::path& path) {
   const auto file = std::filesystem::is_directory(path) ? path / "capture.json" : path;
+  try {
+    return read_capture_document(file);
+  } catch (const nlohmann::json::exception& e) {
+    throw bad_input(file, std::string("a field has the wrong type: ") + e.what());
+  }
+}
+
+static Capture read_capture_document(const std::filesystem::path& file) {
   const Json document = read_json_document(file, "capture", 1);
   Capture capture;
   capture.folder = file.parent_path();
@@ -118,7 +136,7 @@ Capture read_capture(const std::filesystem::path& path) {
   if (capture.units != "m") throw bad_input(file, "units '" + capture.units + "' are not supported (metres: \"m\")");
   if (capture.up != "y") throw bad_input(file, "up axis '" + capture.up + "' is not supported (\"y\")");
   if (!(capture.fps > 0)) throw bad_input(file, "fps must be positive");
-  if (document.contains("cameras")) capture.cameras = read_cameras(capture.folder / get_field<std::string>(document, "cameras", file));
+  if (document.contains("cameras")) capture.cameras = read_cameras_checked(capture.folder / get_field<std::string>(document, "cameras", file));
   std::set<std::string> names;
   for (const auto& entry : get_field<Json>(document, "sequences", file)) {
     CaptureSequence sequence;

@@ -136,6 +136,10 @@ int ToolApp::run(int argc, const char* const* argv, const std::function<void()>&
     spdlog::error("{}", e.what());
     spdlog::default_logger()->flush();
     return e.exit_code();
+  } catch (const nlohmann::json::exception& e) {
+    // A JSON reader that did not check a field's type: still the input's fault.
+    spdlog::error("invalid JSON content: {}", e.what());
+    return static_cast<int>(ExitCode::bad_input);
   } catch (const std::bad_alloc&) {
     spdlog::error("out of memory");
     return static_cast<int>(ExitCode::internal);

@@ -70,7 +70,17 @@ Eigen::MatrixXd to_centred(const Eigen::MatrixXd& world, const RootMotion& root)
   return shifted * rotation_y(root.heading);
 }
 
+static AlignedDatabase read_database_document(const std::filesystem::path& database_json);
+
 AlignedDatabase read_database(const std::filesystem::path& database_json) {
+  try {
+    return read_database_document(database_json);
+  } catch (const nlohmann::json::exception& e) {
+    throw bad_input(database_json, std::string("a field has the wrong type: ") + e.what());
+  }
+}
+
+static AlignedDatabase read_database_document(const std::filesystem::path& database_json) {
   const Json document = read_json_document(database_json, "database", 1);
   const auto directory = database_json.parent_path();
   AlignedDatabase database;

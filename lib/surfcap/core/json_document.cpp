@@ -15,6 +15,8 @@ Json read_json_file(const std::filesystem::path& path) {
   const std::string text = read_file(path);
   try {
     return Json::parse(text);
+  } catch (const nlohmann::json::out_of_range& e) {  // e.g. a number too large for a double
+    throw bad_input(path, std::string("invalid JSON: ") + e.what());
   } catch (const nlohmann::json::parse_error& e) {
     // Turn the byte offset into line:column for a person.
     const std::size_t offset = std::min<std::size_t>(e.byte, text.size());
@@ -33,7 +35,7 @@ Json read_json_document(const std::filesystem::path& path, std::string_view kind
   if (it == document.end() || !it->is_string())
     throw bad_input(path, "missing \"format\": expected \"" + format_tag(kind, max_version) + "\"");
   const std::string tag = *it;
-  static const std::regex tag_re(R"(surfcap\.([a-z_]+)/([0-9]+))");
+  static const std::regex tag_re(R"(surfcap\.([a-z_]+)/([0-9]{1,6}))");
   std::smatch m;
   if (!std::regex_match(tag, m, tag_re))
     throw bad_input(path, "\"format\" is \"" + tag + "\", expected \"" + format_tag(kind, max_version) + "\"");

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -22,6 +23,7 @@ struct PlyProperty {
   int count_size = 0;    // list: size of the count; 0 for scalars
   bool is_float = false; // scalar or list item type
   bool count_is_float = false;
+  bool colour = false;  // a float colour channel: OpenMesh converts it to 8 bits, so it must be in [0, 1]
 };
 
 struct PlyElement {
@@ -71,38 +73,62 @@ class PlyChecker {
   [[noreturn]] void fail(const std::string& what) const { throw bad_input(path_, what, frame_); }
 
   void parse_header() {
-    const std::size_t end = content_.find("end_header");
-    if (content_.compare(0, 3, "ply") != 0 || end == std::string::npos) fail("not a PLY file (no ply ... end_header)");
-    body_ = content_.find('\n', end);
-    body_ = body_ == std::string::npos ? content_.size() : body_ + 1;
+    // "end_header" must stand on its own line (OpenMesh loops forever on some headers without it).
+    static const std::regex end_line("\nend_header[ \t\r]*(\n|$)");
+    std::smatch end_match;
+    const std::size_t header_limit = std::min<std::size_t>(content_.size(), 1 << 16);
+    const std::string head = content_.substr(0, header_limit);
+    if (content_.compare(0, 4, "ply\n") != 0 && content_.compare(0, 5, "ply\r\n") != 0)
+      fail("not a PLY file (it must start with a 'ply' line)");
+    if (!std::regex_search(head, end_match, end_line)) fail("not a PLY file (no end_header line)");
+    const std::size_t end = static_cast<std::size_t>(end_match.position(0)) + 1;
+    body_ = static_cast<std::size_t>(end_match.position(0) + end_match.length(0));
+    // Every header line must be one OpenMesh understands: it loops forever on some others.
     std::istringstream header(content_.substr(0, end));
     std::string line;
+    std::getline(header, line);  // "ply"
+    long line_number = 1;
     while (std::getline(header, line)) {
+      ++line_number;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
       std::istringstream words(line);
-      std::string keyword;
-      words >> keyword;
+      std::vector<std::string> tokens;
+      for (std::string token; words >> token;) tokens.push_back(token);
+      auto bad = [&] { fail("PLY header line " + std::to_string(line_number) + " is not understood: '" + line + "'"); };
+      if (tokens.empty()) bad();
+      const std::string& keyword = tokens[0];
+      if (keyword == "comment" || keyword == "obj_info") continue;
       if (keyword == "format") {
-        words >> format_;
+        if (tokens.size() != 3 || tokens[2] != "1.0") bad();
+        format_ = tokens[1];
       } else if (keyword == "element") {
         PlyElement element;
-        if (!(words >> element.name >> element.count) || element.count < 0) fail("bad PLY element line: " + line);
+        element.name = tokens.size() == 3 ? tokens[1] : "";
+        double count = -1;
+        if (tokens.size() != 3 || !parse_finite(tokens[2], count) || count < 0 || count > 1e9 || count != std::floor(count))
+          bad();
+        element.count = static_cast<long>(count);
         elements_.push_back(element);
       } else if (keyword == "property") {
         if (elements_.empty()) fail("PLY property before any element");
-        std::string type;
-        words >> type;
         PlyProperty property;
-        if (type == "list") {
-          std::string count_type, item_type;
-          words >> count_type >> item_type;
-          std::tie(property.count_size, property.count_is_float) = ply_type(count_type);
-          std::tie(property.size, property.is_float) = ply_type(item_type);
-          if (property.count_size == 0 || property.size == 0) fail("unknown PLY list type: " + line);
+        if (tokens.size() == 5 && tokens[1] == "list") {
+          std::tie(property.count_size, property.count_is_float) = ply_type(tokens[2]);
+          std::tie(property.size, property.is_float) = ply_type(tokens[3]);
+          if (property.count_size == 0 || property.size == 0) bad();
+        } else if (tokens.size() == 3) {
+          std::tie(property.size, property.is_float) = ply_type(tokens[1]);
+          if (property.size == 0) bad();
+          static const char* channels[] = {"red", "green", "blue", "alpha", "r", "g", "b", "a",
+                                           "diffuse_red", "diffuse_green", "diffuse_blue"};
+          property.colour = property.is_float &&
+                            std::find(std::begin(channels), std::end(channels), tokens[2]) != std::end(channels);
         } else {
-          std::tie(property.size, property.is_float) = ply_type(type);
-          if (property.size == 0) fail("unknown PLY property type: " + line);
+          bad();
         }
         elements_.back().properties.push_back(property);
+      } else {
+        bad();
       }
     }
     if (format_ != "ascii" && format_ != "binary_little_endian" && format_ != "binary_big_endian")
@@ -149,7 +175,9 @@ class PlyChecker {
     };
     for (const auto& property : element.properties) {
       if (property.count_size == 0) {
-        next();
+        const double value = next();
+        if (property.colour && !(value >= 0 && value <= 1))
+          fail("colour value " + tokens[index - 1] + " outside [0, 1] at line " + std::to_string(line_number));
         continue;
       }
       const double count = next();
@@ -192,8 +220,12 @@ class PlyChecker {
           };
           if (property.count_size == 0) {
             need(static_cast<std::size_t>(property.size));
-            if (property.is_float && !std::isfinite(load_number(position, property.size, true, swap)))
-              fail("NaN/Inf value in " + element.name + " " + std::to_string(record));
+            if (property.is_float) {
+              const double value = load_number(position, property.size, true, swap);
+              if (!std::isfinite(value)) fail("NaN/Inf value in " + element.name + " " + std::to_string(record));
+              if (property.colour && !(value >= 0 && value <= 1))
+                fail("colour value outside [0, 1] in " + element.name + " " + std::to_string(record));
+            }
             position += static_cast<std::size_t>(property.size);
             continue;
           }
@@ -229,16 +261,15 @@ MeshFileCounts precheck_off(const std::filesystem::path& path, std::optional<lon
     if (!tokens.empty()) records.emplace_back(number, std::move(tokens));
   }
   auto fail = [&](const std::string& what) -> void { throw bad_input(path, what, frame); };
-  if (records.empty() || records[0].second[0].find("OFF") == std::string::npos) fail("not an OFF file (no OFF keyword)");
-  if (std::find(records[0].second.begin(), records[0].second.end(), "BINARY") != records[0].second.end()) return {};
-  // The counts follow the keyword, on its line or the next.
-  std::vector<std::string> header(records[0].second.begin() + 1, records[0].second.end());
-  std::size_t next = 1;
-  if (header.empty()) {
-    if (records.size() < 2) fail("truncated OFF header");
-    header = records[1].second;
-    next = 2;
-  }
+  // The keyword line ([ST][C][N]OFF [BINARY]) stands alone; OpenMesh reads the counts from the next.
+  static const std::regex keyword("(ST)?C?N?OFF");
+  if (records.empty() || !std::regex_match(records[0].second[0], keyword))
+    fail("not a 3-D OFF file (the first line must be [ST][C][N]OFF)");
+  if (records[0].second.size() == 2 && records[0].second[1] == "BINARY") return {};
+  if (records[0].second.size() != 1) fail("the OFF keyword line must hold only the keyword");
+  if (records.size() < 2) fail("truncated OFF header");
+  const std::vector<std::string> header = records[1].second;
+  const std::size_t next = 2;
   double value = 0;
   auto check_numbers = [&](const std::pair<long, std::vector<std::string>>& record, std::size_t minimum) {
     if (record.second.size() < minimum) fail("line " + std::to_string(record.first) + ": too few values");
@@ -247,21 +278,71 @@ MeshFileCounts precheck_off(const std::filesystem::path& path, std::optional<lon
         fail("NaN/Inf or malformed number '" + token + "' at line " + std::to_string(record.first));
   };
   check_numbers({records[next - 1].first, header}, 2);
-  MeshFileCounts counts{std::stol(header[0]), std::stol(header[1])};
-  if (counts.vertices < 0 || counts.faces < 0) fail("negative element counts in the OFF header");
+  auto count = [&](const std::string& token) {
+    double number = 0;
+    parse_finite(token, number);
+    if (number < 0 || number > 1e9 || number != std::floor(number)) fail("bad element count '" + token + "' in the OFF header");
+    return static_cast<long>(number);
+  };
+  MeshFileCounts counts{count(header[0]), count(header[1])};
   if (records.size() < next + static_cast<std::size_t>(counts.vertices + counts.faces))
     fail("truncated: the header declares " + std::to_string(counts.vertices) + " vertices and " +
          std::to_string(counts.faces) + " faces, the file has " + std::to_string(records.size() - next) +
          " data lines");
-  for (long v = 0; v < counts.vertices; ++v) check_numbers(records[next + static_cast<std::size_t>(v)], 3);
+  for (long v = 0; v < counts.vertices; ++v) {
+    const auto& record = records[next + static_cast<std::size_t>(v)];
+    check_numbers(record, 3);
+    // Values after x y z (normals, colours, texture coordinates) reach 8-bit colour casts.
+    for (std::size_t k = 3; k < record.second.size(); ++k) {
+      parse_finite(record.second[k], value);
+      if (!(value >= -1 && value <= 255)) fail("vertex value " + record.second[k] + " out of range at line " + std::to_string(record.first));
+    }
+  }
   for (long f = 0; f < counts.faces; ++f) {
     const auto& record = records[next + static_cast<std::size_t>(counts.vertices + f)];
     check_numbers(record, 1);
-    const double n = std::stod(record.second[0]);
-    if (n < 1 || n > kMaxPolygon || record.second.size() < 1 + static_cast<std::size_t>(n))
+    double n = 0;
+    parse_finite(record.second[0], n);
+    if (n < 1 || n > kMaxPolygon || n != std::floor(n) || record.second.size() < 1 + static_cast<std::size_t>(n))
       fail("bad polygon at line " + std::to_string(record.first));
   }
   return counts;
+}
+
+/// OBJ has no header; its vertex lines must hold finite numbers, and colour values after the
+/// coordinates ("v x y z r g b", which OpenMesh converts to 8 bits) must lie in [0, 1].
+void precheck_obj(const std::filesystem::path& path, std::optional<long> frame) {
+  std::istringstream lines(read_file(path));
+  std::string line;
+  long counts[3] = {0, 0, 0};  // v, vt, vn seen so far
+  static const std::regex reference(R"((-?\d{1,9})(?:/(-?\d{1,9})?(?:/(-?\d{1,9}))?)?)");
+  for (long number = 1; std::getline(lines, line); ++number) {
+    auto fail = [&](const std::string& what) { throw bad_input(path, what + " at line " + std::to_string(number), frame); };
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "v" || keyword == "vt" || keyword == "vn") {
+      int index = 0;
+      for (std::string token; words >> token; ++index) {
+        double value = 0;
+        if (!parse_finite(token, value)) fail("NaN/Inf or malformed number '" + token + "'");
+        if (keyword == "v" && index >= 3 && !(value >= 0 && value <= 1)) fail("vertex colour " + token + " outside [0, 1]");
+      }
+      ++counts[keyword == "v" ? 0 : keyword == "vt" ? 1 : 2];
+    } else if (keyword == "f") {
+      // OpenMesh indexes its arrays with these without checking: each must name an earlier element.
+      for (std::string token; words >> token;) {
+        std::smatch m;
+        if (!std::regex_match(token, m, reference)) fail("malformed face vertex '" + token + "'");
+        for (int k = 0; k < 3; ++k) {
+          if (!m[k + 1].matched) continue;
+          const long index = std::stol(m[k + 1].str());
+          const long resolved = index < 0 ? counts[k] + index + 1 : index;
+          if (resolved < 1 || resolved > counts[k]) fail("face vertex '" + token + "' refers to a missing element");
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -270,6 +351,7 @@ MeshFileCounts precheck_mesh_file(const std::filesystem::path& path, const std::
                                   std::optional<long> frame) {
   if (extension == ".ply") return PlyChecker(path, frame).run();
   if (extension == ".off") return precheck_off(path, frame);
+  precheck_obj(path, frame);
   return {};
 }
 

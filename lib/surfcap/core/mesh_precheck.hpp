@@ -16,7 +16,8 @@ struct MeshFileCounts {
 
 /// For .ply and .off: parses the header and walks every element record (ASCII tokens or binary
 /// bytes), checking that numbers are finite, list lengths sane and nothing is truncated.
-/// bad_input names the file, the frame and the element/line at fault. For .obj: no-op.
+/// bad_input names the file, the frame and the element/line at fault. For .obj: vertex lines
+/// must hold finite numbers and colour values in [0, 1].
 MeshFileCounts precheck_mesh_file(const std::filesystem::path& path, const std::string& extension,
                                   std::optional<long> frame);
 

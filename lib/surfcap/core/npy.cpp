@@ -1,6 +1,7 @@
 #include "surfcap/core/npy.hpp"
 
 #include <bit>
+#include <limits>
 #include <cstring>
 #include <numeric>
 #include <regex>
@@ -127,10 +128,20 @@ NpyArray read_npy(const std::filesystem::path& path) {
   array.dtype = *dtype;
   const std::string dims = m[1];
   static const std::regex int_re(R"(\d+)");
-  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), int_re); it != std::sregex_iterator(); ++it)
-    array.shape.push_back(std::stoull(it->str()));
-
   const std::size_t data_offset = offset + header_length;
+  // Every extent must fit in what the file holds, so the element count cannot overflow.
+  const std::size_t available = (content.size() - data_offset) / dtype_size(array.dtype);
+  std::size_t elements = 1;
+  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), int_re); it != std::sregex_iterator(); ++it) {
+    const std::string digits = it->str();
+    const std::size_t extent = digits.size() > 15 ? std::numeric_limits<std::size_t>::max() : std::stoull(digits);
+    if (extent != 0 && elements != 0 && extent > available / elements)
+      throw bad_input(path, "npy data truncated: shape extent " + digits + " exceeds the " +
+                                std::to_string(available) + " elements the file holds");
+    elements *= extent;
+    array.shape.push_back(extent);
+  }
+
   const std::size_t expected = array.size() * dtype_size(array.dtype);
   if (content.size() - data_offset < expected)
     throw bad_input(path, "npy data truncated: shape " + shape_string(array.shape) + " needs " +
@@ -165,7 +176,7 @@ std::vector<double> read_npy_as_double(const std::filesystem::path& path, const 
       for (std::size_t i = 0; i < values.size(); ++i) values[i] = array.data<float>()[i];
       break;
     case DType::float64:
-      std::memcpy(values.data(), array.bytes.data(), array.bytes.size());
+      if (!values.empty()) std::memcpy(values.data(), array.bytes.data(), array.bytes.size());
       break;
     default:
       throw bad_input(path, "npy dtype is " + std::string(dtype_descr(array.dtype)) + ", expected a float type");
