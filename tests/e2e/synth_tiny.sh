@@ -4,7 +4,7 @@
 set -euo pipefail
 build=${1:?build dir}
 source_dir=${2:?source dir}
-synth="$build/tools/surfcap-synth/surfcap-synth"
+synth="$build/tools/surfcap-synth"
 work="$build/test-tmp/e2e-synth-tiny-$$"
 rm -rf "$work"
 mkdir -p "$work"
