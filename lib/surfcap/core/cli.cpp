@@ -96,6 +96,7 @@ std::vector<CLI::ConfigItem> JsonConfig::from_config(std::istream& input) const 
 
 ToolApp::ToolApp(std::string name, std::string description) : app_(std::move(description), std::move(name)) {
   app_.option_defaults()->always_capture_default();
+  app_.fallthrough();  // subcommands inherit it: common options may follow the subcommand
   app_.set_version_flag("--version", std::string(version()));
   app_.config_formatter(std::make_shared<JsonConfig>());
   app_.allow_config_extras(CLI::config_extras_mode::error);
