@@ -11,6 +11,7 @@
 #include "surfcap/similarity/preview.hpp"
 #include "surfcap/similarity/similarity_files.hpp"
 #include "surfcap/similarity/tree_quality.hpp"
+#include "register_command.hpp"
 
 namespace {
 
@@ -173,10 +174,13 @@ int main(int argc, char** argv) {
   tree->add_option("--ground-truth", args.ground_truth,
                    "Ground-truth aligned database.json: report the tree's quality ratio");
 
+  const tools::RegisterCommands registration(app);  // register, run
+
   return app.run(argc, argv, [&] {
     if (*histograms) run_histograms(args, app);
     if (*similarity_cmd) run_similarity(args, app);
     if (*merge) run_merge(args);
     if (*tree) run_tree(args, app);
+    registration.run();
   });
 }

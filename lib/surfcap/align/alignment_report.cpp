@@ -1,0 +1,160 @@
+#include "surfcap/align/alignment_report.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <numeric>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "surfcap/core/atomic_file.hpp"
+#include "surfcap/core/error.hpp"
+#include "surfcap/core/mesh_io.hpp"
+
+namespace surfcap::align {
+
+namespace {
+
+/// Blue (0) → cyan → green → yellow → red (1), as BGR bytes.
+cv::Scalar heat_bgr(double value) {
+  const double t = std::clamp(value, 0.0, 1.0) * 4.0;
+  const int band = std::min(3, static_cast<int>(t));
+  const double u = t - band;
+  double r = 0, g = 0, b = 0;
+  switch (band) {
+    case 0: b = 1; g = u; break;
+    case 1: g = 1; b = 1 - u; break;
+    case 2: g = 1; r = u; break;
+    default: r = 1; g = 1 - u; break;
+  }
+  return cv::Scalar(std::round(255 * b), std::round(255 * g), std::round(255 * r));
+}
+
+cv::Mat render_panel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::VectorXd& values, double scale,
+                     int size, const std::string& label) {
+  cv::Mat panel(size, size, CV_8UC3, cv::Scalar(255, 255, 255));
+  const Eigen::RowVector3d low = V.colwise().minCoeff(), high = V.colwise().maxCoeff();
+  const double extent = std::max(high.x() - low.x(), high.y() - low.y()) * 1.1;
+  const double pixels = (size - 30) / std::max(extent, 1e-9);
+  const Eigen::RowVector3d centre = (low + high) / 2;
+  auto project = [&](long v) {
+    return cv::Point(static_cast<int>(std::lround(size / 2.0 + (V(v, 0) - centre.x()) * pixels)),
+                     static_cast<int>(std::lround(size / 2.0 + 10 - (V(v, 1) - centre.y()) * pixels)));
+  };
+  // Painter's algorithm: faces from back (−z) to front, ties by index (deterministic).
+  std::vector<long> order(static_cast<std::size_t>(F.rows()));
+  std::iota(order.begin(), order.end(), 0);
+  Eigen::VectorXd depth(F.rows());
+  for (long f = 0; f < F.rows(); ++f) depth(f) = V(F(f, 0), 2) + V(F(f, 1), 2) + V(F(f, 2), 2);
+  std::stable_sort(order.begin(), order.end(), [&](long a, long b) { return depth(a) < depth(b); });
+  for (const long f : order) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
+    const double shade = 0.45 + 0.55 * std::abs(normal.z());
+    const double value = (values(F(f, 0)) + values(F(f, 1)) + values(F(f, 2))) / (3.0 * scale);
+    const cv::Scalar colour = heat_bgr(value) * shade;
+    const cv::Point points[3] = {project(F(f, 0)), project(F(f, 1)), project(F(f, 2))};
+    cv::fillConvexPoly(panel, points, 3, colour, cv::LINE_8);
+  }
+  cv::putText(panel, label, cv::Point(6, 18), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_8);
+  return panel;
+}
+
+}  // namespace
+
+core::Json alignment_figures(const Registration& registration) {
+  core::Json frames = core::Json::array();
+  double mean_sum = 0, worst = 0;
+  long patch = 0, dense = 0, feature = 0;
+  int max_depth = 0;
+  for (const auto& record : registration.frames) {
+    const auto& a = record.alignment;
+    frames.push_back({{"sequence", record.sequence},
+                      {"frame", record.frame},
+                      {"node", record.node},
+                      {"parent", record.parent},
+                      {"depth", record.depth},
+                      {"mean_residual_m", a.mean_residual},
+                      {"max_residual_m", a.max_residual},
+                      {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
+                                           {"feature", a.feature_constraints}}},
+                      {"accepted_patches", a.accepted_patches},
+                      {"total_patches", a.total_patches},
+                      {"heading_change_rad", a.heading_change},
+                      {"seconds", record.seconds},
+                      {"timings_s", {{"matching", a.timings.matching}, {"factorisation", a.timings.factorisation},
+                                     {"solves", a.timings.solves}}}});
+    mean_sum += a.mean_residual;
+    worst = std::max(worst, a.max_residual);
+    patch += a.patch_constraints;
+    dense += a.dense_constraints;
+    feature += a.feature_constraints;
+    max_depth = std::max(max_depth, record.depth);
+  }
+  const double count = std::max<double>(1.0, static_cast<double>(registration.frames.size()));
+  return {{"frames", frames},
+          {"summary", {{"frames", registration.frames.size()},
+                       {"mean_residual_m", mean_sum / count},
+                       {"max_residual_m", worst},
+                       {"max_depth", max_depth},
+                       {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature}}},
+                       {"deformer", registration.deformer_model},
+                       {"volume_vertices", registration.volume_vertices},
+                       {"elements", registration.elements},
+                       {"template_seconds", registration.seconds_template}}}};
+}
+
+std::vector<long> preview_nodes(const Registration& registration, int count) {
+  const long nodes = static_cast<long>(registration.frames.size());
+  std::vector<long> chosen;
+  long root = 0, deepest = 0, worst = 0;
+  for (long node = 0; node < nodes; ++node) {
+    const auto& record = registration.frames[static_cast<std::size_t>(node)];
+    if (record.parent < 0) root = node;
+    if (record.depth > registration.frames[static_cast<std::size_t>(deepest)].depth) deepest = node;
+    if (record.alignment.mean_residual > registration.frames[static_cast<std::size_t>(worst)].alignment.mean_residual)
+      worst = node;
+  }
+  for (const long node : {root, nodes / 2, deepest, worst})
+    if (std::find(chosen.begin(), chosen.end(), node) == chosen.end() && static_cast<int>(chosen.size()) < count)
+      chosen.push_back(node);
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
+                            const Registration& registration, const std::vector<long>& nodes, double scale) {
+  const int size = 360;
+  std::vector<cv::Mat> panels;
+  const Eigen::MatrixXi& F = registration.database.template_mesh.F;
+  for (const long node : nodes) {
+    const auto& record = registration.frames[static_cast<std::size_t>(node)];
+    core::MeshRequirements requirements;
+    requirements.allow_non_manifold = true;
+    requirements.allow_zero_area_faces = true;
+    const core::Mesh target = core::read_mesh(
+        capture.mesh_path(capture.sequence_index(record.sequence), record.frame), requirements, record.frame);
+    const geometry::SurfaceQuery query(target.V, target.F);
+    const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(node)];
+    const Eigen::VectorXd values = surface_distances(V, query);
+    char label[160];
+    std::snprintf(label, sizeof label, "%s:%d depth %d mean %.1f mm", record.sequence.c_str(), record.frame,
+                  record.depth, 1000 * values.mean());
+    panels.push_back(render_panel(V, F, values, scale, size, label));
+  }
+  if (panels.empty()) return;
+  cv::Mat sheet;
+  cv::hconcat(panels, sheet);
+  cv::Mat bar(28, sheet.cols, CV_8UC3, cv::Scalar(255, 255, 255));
+  for (int x = 0; x < 200 && x + 10 < bar.cols; ++x)
+    cv::line(bar, cv::Point(10 + x, 4), cv::Point(10 + x, 14), heat_bgr(x / 199.0));
+  char legend[96];
+  std::snprintf(legend, sizeof legend, "0 .. %.1f mm to the reconstruction", 1000 * scale);
+  cv::putText(bar, legend, cv::Point(220, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_8);
+  cv::vconcat(sheet, bar, sheet);
+  std::vector<std::uint8_t> bytes;
+  if (!cv::imencode(".png", sheet, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}))
+    throw core::io_error(path, "PNG encoding failed");
+  core::write_file_atomically(path, std::span(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size()));
+}
+
+}  // namespace surfcap::align

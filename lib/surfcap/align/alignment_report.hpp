@@ -1,0 +1,28 @@
+#pragma once
+// What surfcap-align register reports (docs/align.md): per-frame figures for
+// report/alignment.json and a PNG heat map of the residual (aligned surface → reconstruction).
+
+#include <filesystem>
+#include <vector>
+
+#include "surfcap/align/tree_alignment.hpp"
+#include "surfcap/core/json_document.hpp"
+
+namespace surfcap::align {
+
+/// {"frames":[{"sequence","frame","node","parent","depth","mean_residual_m","max_residual_m",
+/// "correspondences":{"patch","dense","feature"},"accepted_patches","total_patches",
+/// "heading_change_rad","seconds","timings_s":{matching,factorisation,solves}}], "summary":{...}}
+core::Json alignment_figures(const Registration& registration);
+
+/// Nodes worth showing: the root, the deepest frame, the frame with the largest residual and one
+/// in between (distinct, at most `count`, in node order).
+std::vector<long> preview_nodes(const Registration& registration, int count = 4);
+
+/// Renders the aligned template of each node (front view, orthographic, flat shaded) coloured by
+/// the distance of each vertex to that frame's reconstruction (blue 0 → red `scale` metres), side
+/// by side, and writes the PNG atomically.
+void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
+                            const Registration& registration, const std::vector<long>& nodes, double scale);
+
+}  // namespace surfcap::align

@@ -1,0 +1,216 @@
+#include "surfcap/align/pairwise_alignment.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "surfcap/align/rigid_icp.hpp"
+#include "surfcap/core/error.hpp"
+
+namespace surfcap::align {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+double mean_edge_length(const core::Mesh& mesh) {
+  double sum = 0;
+  for (long f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) sum += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
+  return mesh.F.rows() > 0 ? sum / (3.0 * static_cast<double>(mesh.F.rows())) : 0.0;
+}
+
+/// Mean over `points` of the distance to the target, clamped at `gate` (unmatched points count as gate).
+double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate) {
+  double sum = 0;
+  for (long i = 0; i < points.rows(); ++i) sum += std::min(gate, target.closest_point(points.row(i).transpose()).distance);
+  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
+}
+
+Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) {
+  return ((points * fit.rotation.transpose()).rowwise() + fit.translation.transpose()).eval();
+}
+
+/// Whole-body rigid initialisation: centroids matched, ICP; if the result does not overlap, the
+/// best of `heading_samples` rotations about the vertical axis (similar frames of different
+/// sequences may face differently: the shape similarity is invariant to heading).
+RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
+                              const geometry::SurfaceQuery& target, const AlignmentTemplate& model,
+                              const PairwiseOptions& options) {
+  // A subsample keeps the initialisation cheap; every k-th vertex, deterministic.
+  const long step = std::max<long>(1, surface.rows() / 800);
+  const long count = (surface.rows() + step - 1) / step;
+  Eigen::MatrixXd points(count, 3), point_normals(count, 3);
+  for (long i = 0; i < count; ++i) {
+    points.row(i) = surface.row(i * step);
+    point_normals.row(i) = normals.row(i * step);
+  }
+  const Eigen::Vector3d source_centre = points.colwise().mean().transpose();
+  const Eigen::Vector3d target_centre = target.vertices().colwise().mean().transpose();
+  IcpOptions icp;
+  icp.max_distance = 2 * options.coarse_distance * model.height();
+  icp.normal_compatibility = options.normal_compatibility;
+  icp.iterations = 12;
+  const double gate = icp.max_distance;
+  auto attempt = [&](double heading) {
+    RigidFit start;
+    start.rotation = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    start.translation = target_centre - start.rotation * source_centre;
+    RigidFit fit = fit_rigid(points, point_normals, target, icp, start);
+    return std::pair{fit, clamped_mean_distance(transformed(points, fit), target, gate)};
+  };
+  auto [best, best_score] = attempt(0.0);
+  if (best_score <= 1.5 * model.mean_edge() || options.heading_samples <= 1) return best;
+  for (int k = 1; k < options.heading_samples; ++k) {
+    const auto [fit, score] = attempt(2 * std::numbers::pi * k / options.heading_samples);
+    if (score < best_score) {
+      best = fit;
+      best_score = score;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+void PairwiseOptions::validate() const {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw core::bad_arguments(std::string("alignment option: ") + what);
+  };
+  require(initial_patches >= 1, "initial patches must be ≥ 1");
+  require(levels >= 0 && levels <= 10, "levels must be in 0..10");
+  require(patch_icp_iterations >= 1, "patch ICP iterations must be ≥ 1");
+  require(rotation_iterations >= 1, "rotation iterations must be ≥ 1");
+  require(patch_weight > 0 && dense_weight > 0, "constraint weights must be > 0");
+  require(min_patch_inliers > 0 && min_patch_inliers <= 1, "minimum patch inlier fraction must be in (0, 1]");
+  require(dense_iterations >= 0, "dense iterations must be ≥ 0");
+  require(normal_compatibility >= -1 && normal_compatibility <= 1, "normal compatibility must be in [-1, 1]");
+  require(coarse_distance > 0 && dense_distance_edges > 0, "distance gates must be > 0");
+  require(heading_samples >= 1, "heading samples must be ≥ 1");
+}
+
+core::Json PairwiseOptions::to_json() const {
+  return {{"initial_patches", initial_patches}, {"levels", levels},
+          {"patch_icp_iterations", patch_icp_iterations}, {"rotation_iterations", rotation_iterations},
+          {"patch_weight", patch_weight}, {"min_patch_inliers", min_patch_inliers},
+          {"dense_iterations", dense_iterations}, {"dense_weight", dense_weight},
+          {"normal_compatibility", normal_compatibility}, {"coarse_distance", coarse_distance},
+          {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples}};
+}
+
+AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer)
+    : mesh_(std::move(mesh)),
+      deformer_([&] {
+        const auto start = Clock::now();
+        VolumeDeformer built(mesh_, deformer);
+        seconds_tetrahedralisation_ = seconds_since(start);
+        return built;
+      }()),
+      patches_(patch_hierarchy(mesh_.V, mesh_.F, options.initial_patches, options.levels)),
+      mean_edge_(mean_edge_length(mesh_)),
+      height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()) {}
+
+Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target) {
+  Eigen::VectorXd distances(surface.rows());
+  for (long i = 0; i < surface.rows(); ++i) distances(i) = target.closest_point(surface.row(i).transpose()).distance;
+  return distances;
+}
+
+PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
+                          const geometry::SurfaceQuery& target, const PairwiseOptions& options) {
+  const VolumeDeformer& deformer = model.deformer();
+  const long surface_count = deformer.surface_vertex_count();
+  const Eigen::MatrixXi& F = model.mesh().F;
+  if (parent_positions.rows() != deformer.vertex_count()) throw core::internal_error("align_pair: parent size");
+  PairwiseResult result;
+  Eigen::MatrixXd positions = parent_positions;
+
+  auto start = Clock::now();
+  {
+    const Eigen::MatrixXd surface = positions.topRows(surface_count);
+    const RigidFit rigid = rigid_initialisation(surface, core::vertex_normals(surface, F), target, model, options);
+    positions = transformed(positions, rigid);
+    const Eigen::Vector3d forward = rigid.rotation * Eigen::Vector3d::UnitZ();
+    result.heading_change = std::atan2(forward.x(), forward.z());
+  }
+  result.timings.matching += seconds_since(start);
+
+  auto solve = [&](const Eigen::MatrixXd& targets, const Eigen::VectorXd& weights) {
+    auto begin = Clock::now();
+    const geometry::SparseCholesky solver = deformer.factor(weights);
+    result.timings.factorisation += seconds_since(begin);
+    begin = Clock::now();
+    positions = deformer.deform(solver, positions, targets, weights, options.rotation_iterations);
+    result.timings.solves += seconds_since(begin);
+  };
+
+  // Coarse-to-fine rigid patch matching (casas2011 §3.2): the patch fits become soft constraints.
+  for (std::size_t level = 0; level < model.patches().size(); ++level) {
+    start = Clock::now();
+    const PatchSet& patches = model.patches()[level];
+    const Eigen::MatrixXd surface = positions.topRows(surface_count);
+    const Eigen::MatrixXd normals = core::vertex_normals(surface, F);
+    IcpOptions icp;
+    icp.iterations = options.patch_icp_iterations;
+    icp.normal_compatibility = options.normal_compatibility;
+    icp.max_distance = std::max(options.coarse_distance * model.height() / std::pow(2.0, static_cast<double>(level)),
+                                options.dense_distance_edges * model.mean_edge());
+    Eigen::MatrixXd targets = surface;
+    Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
+    for (const auto& members : patches.vertices) {
+      Eigen::MatrixXd points(static_cast<long>(members.size()), 3), point_normals(static_cast<long>(members.size()), 3);
+      for (std::size_t i = 0; i < members.size(); ++i) {
+        points.row(static_cast<long>(i)) = surface.row(members[i]);
+        point_normals.row(static_cast<long>(i)) = normals.row(members[i]);
+      }
+      const RigidFit fit = fit_rigid(points, point_normals, target, icp);
+      ++result.total_patches;
+      if (static_cast<double>(fit.inliers) < options.min_patch_inliers * static_cast<double>(members.size())) continue;
+      ++result.accepted_patches;
+      for (const int v : members) {
+        targets.row(v) = fit.apply(surface.row(v).transpose()).transpose();
+        weights(v) = options.patch_weight;
+      }
+      result.patch_constraints += static_cast<long>(members.size());
+    }
+    result.timings.matching += seconds_since(start);
+    if (weights.maxCoeff() > 0) solve(targets, weights);
+  }
+
+  // Dense fit: every surface vertex towards its compatible closest point on the reconstruction.
+  const double dense_gate = options.dense_distance_edges * model.mean_edge();
+  for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
+    start = Clock::now();
+    const Eigen::MatrixXd surface = positions.topRows(surface_count);
+    const Eigen::MatrixXd normals = core::vertex_normals(surface, F);
+    Eigen::MatrixXd targets = surface;
+    Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
+    long matched = 0;
+    for (long v = 0; v < surface_count; ++v) {
+      geometry::SurfacePoint closest;
+      if (!compatible_closest_point(target, surface.row(v).transpose(), normals.row(v).transpose(), dense_gate,
+                                    options.normal_compatibility, closest))
+        continue;
+      targets.row(v) = closest.position.transpose();
+      weights(v) = options.dense_weight;
+      ++matched;
+    }
+    result.dense_constraints = matched;
+    result.timings.matching += seconds_since(start);
+    if (matched == 0) break;
+    solve(targets, weights);
+  }
+
+  start = Clock::now();
+  const Eigen::VectorXd distances = surface_distances(positions.topRows(surface_count), target);
+  result.mean_residual = distances.mean();
+  result.max_residual = distances.maxCoeff();
+  result.timings.matching += seconds_since(start);
+  result.positions = std::move(positions);
+  return result;
+}
+
+}  // namespace surfcap::align

@@ -1,0 +1,83 @@
+#pragma once
+// Pairwise non-rigid alignment (casas2011 §3.2): the template, already aligned to a parent frame,
+// deformed onto a child frame's reconstruction. Rigid initialisation (with a heading search when
+// the frames face differently), then coarse-to-fine rigid patch matching (30 patches, doubling per
+// level) as soft constraints of the volumetric Laplacian deformer, then a dense fit to the surface.
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "surfcap/align/surface_patches.hpp"
+#include "surfcap/align/volume_deformer.hpp"
+#include "surfcap/core/json_document.hpp"
+#include "surfcap/core/mesh.hpp"
+#include "surfcap/geometry/surface_query.hpp"
+
+namespace surfcap::align {
+
+struct PairwiseOptions {
+  int initial_patches = 30;         ///< patches at the coarsest level (casas2011: 30)
+  int levels = 4;                   ///< patch levels, doubling the count each level
+  int patch_icp_iterations = 6;
+  int rotation_iterations = 3;      ///< rotation updates (solves) per level and per dense iteration
+  double patch_weight = 0.3;        ///< soft-constraint weight of a patch target (relative to L's diagonal)
+  double min_patch_inliers = 0.5;   ///< a patch fit is used if this fraction of its vertices found a match
+  int dense_iterations = 4;
+  double dense_weight = 1.0;        ///< weight of a dense closest-point target
+  double normal_compatibility = 0.5;  ///< minimum cosine between normals of matched points
+  double coarse_distance = 0.08;    ///< correspondence gate at level 0, fraction of the template's height
+  double dense_distance_edges = 3;  ///< dense-fit gate, in template mean edge lengths
+  int heading_samples = 12;         ///< headings tried when the frames do not overlap rigidly
+  /// Throws bad_arguments naming the offending option.
+  void validate() const;
+  core::Json to_json() const;
+};
+
+/// What is computed once per template and shared (read-only) by every pairwise alignment.
+class AlignmentTemplate {
+ public:
+  AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer = {});
+  const core::Mesh& mesh() const { return mesh_; }
+  const VolumeDeformer& deformer() const { return deformer_; }
+  const std::vector<PatchSet>& patches() const { return patches_; }
+  double mean_edge() const { return mean_edge_; }
+  double height() const { return height_; }  ///< extent along y at rest (m)
+  double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
+
+ private:
+  core::Mesh mesh_;
+  VolumeDeformer deformer_;
+  std::vector<PatchSet> patches_;
+  double mean_edge_ = 0;
+  double height_ = 0;
+  double seconds_tetrahedralisation_ = 0;
+};
+
+struct PairwiseTimings {
+  double matching = 0;       ///< closest points, ICP
+  double factorisation = 0;  ///< Cholesky factorisations
+  double solves = 0;         ///< rotation fits + back-substitutions
+};
+
+struct PairwiseResult {
+  Eigen::MatrixXd positions;  ///< all deformer vertices (surface first), metres
+  long patch_constraints = 0;   ///< vertices constrained by accepted patch fits (summed over levels)
+  long dense_constraints = 0;   ///< closest-point constraints of the last dense iteration
+  long feature_constraints = 0; ///< image feature matches used (0: geometric only)
+  int accepted_patches = 0, total_patches = 0;
+  double heading_change = 0;    ///< radians, of the rigid initialisation
+  double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
+  double max_residual = 0;
+  PairwiseTimings timings;
+};
+
+/// Per surface vertex of `surface` (n×3 template connectivity): distance to the target surface.
+Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
+
+/// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
+/// reconstruction, queried through `target_query`).
+PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
+                          const geometry::SurfaceQuery& target_query, const PairwiseOptions& options);
+
+}  // namespace surfcap::align

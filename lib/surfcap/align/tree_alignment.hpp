@@ -1,0 +1,72 @@
+#pragma once
+// Alignment of every captured frame along the shape similarity tree (casas2011 §3.2): the
+// template (the root frame's reconstruction) is deformed parent → child from the root outwards;
+// independent branches run in parallel, level by level, so results do not depend on the thread
+// count. The result is the aligned database (DESIGN §3.2) plus per-frame records for the report.
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/core/capture.hpp"
+#include "surfcap/core/database.hpp"
+#include "surfcap/core/progress.hpp"
+#include "surfcap/similarity/similarity_files.hpp"
+
+namespace surfcap::align {
+
+/// similarity/tree.json as the aligner needs it.
+struct AlignmentTree {
+  long root = 0;
+  std::vector<std::string> nodes;  ///< "walk:12" per node (the FrameList order)
+  struct Edge {
+    long parent = 0, child = 0;
+    double cost = 0;
+    int depth = 0;  ///< of the child
+  };
+  std::vector<Edge> edges;  ///< breadth first: every parent precedes its children
+};
+
+/// Reads <database>/similarity/tree.json (surfcap.tree/1), checking that it spans `node_count`
+/// nodes with parents before children; bad_input names the file.
+AlignmentTree read_alignment_tree(const std::filesystem::path& database, long node_count);
+
+struct RegisterOptions {
+  PairwiseOptions pairwise;
+  DeformerOptions deformer;
+  int threads = 0;  ///< ≤ 0: all hardware threads
+};
+
+/// One aligned frame, as the report lists it.
+struct FrameRecord {
+  std::string sequence;
+  int frame = 0;        ///< frame number
+  long node = 0;
+  long parent = -1;     ///< −1 for the root
+  int depth = 0;
+  PairwiseResult alignment;  ///< positions cleared after use; residuals, counts, timings
+  double seconds = 0;
+};
+
+struct Registration {
+  core::AlignedDatabase database;
+  std::vector<FrameRecord> frames;                 ///< per node
+  std::vector<Eigen::MatrixXd> world_positions;    ///< per node: template surface vertices (world, metres)
+  std::string deformer_model;
+  long volume_vertices = 0, elements = 0;
+  double seconds_template = 0;
+};
+
+/// Root motion of an aligned frame relative to the template at rest: centroid (x, y, z) and the
+/// heading of the best rotation about +y taking the centred template onto the centred frame.
+core::RootMotion root_motion(const Eigen::MatrixXd& template_rest, const Eigen::MatrixXd& world);
+
+/// Aligns all frames of `capture` listed in `frames` along `tree`. Reconstructions are read (and
+/// checked) as needed; errors name the file and frame.
+Registration register_capture(const core::Capture& capture, const similarity::FrameList& frames,
+                              const AlignmentTree& tree, const RegisterOptions& options,
+                              const core::ProgressCallback& progress = {});
+
+}  // namespace surfcap::align

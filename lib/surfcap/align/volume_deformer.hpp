@@ -1,0 +1,72 @@
+#pragma once
+// The template's deformation model (casas2011 §3.2 eq. 2, DESIGN §4): a tetrahedral Laplacian
+// L = GᵀDG over the TetGen volume mesh of the template, soft positional constraints on surface
+// vertices and iterative rotation updates of the differential coordinates (one rotation per tet,
+// as-rigid-as-possible): each iteration solves
+//   (L + W) x = Gᵀ D [R_e ∇x₀]_e + W c
+// with R_e the rotation closest to element e's current deformation gradient (elements: the tets
+// plus the surface triangles as thin shells, so no surface vertex is ever left unattached). This is eq. 2 in its
+// gradient-domain (Poisson) form — δ(R) = GᵀD R∇x₀ are the rotated differential coordinates —
+// which keeps the system as sparse as L itself. The matrix depends only on the constraint
+// weights, so one factorisation serves every rotation iteration of a level.
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <string>
+
+#include "surfcap/core/mesh.hpp"
+#include "surfcap/geometry/sparse_cholesky.hpp"
+#include "surfcap/geometry/tetrahedral_laplacian.hpp"
+
+namespace surfcap::align {
+
+struct DeformerOptions {
+  geometry::TetrahedraliseOptions tetrahedra;
+  /// false, or TetGen failing on the template: a surface model (triangle gradients, areas).
+  bool volumetric = true;
+};
+
+class VolumeDeformer {
+ public:
+  /// Tetrahedralises the template (closed surface) and builds G, D and L. If TetGen fails (open or
+  /// self-intersecting surface) it falls back to the surface model and says so in model().
+  VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options = {});
+
+  /// "tetrahedral" or "surface (…reason…)".
+  const std::string& model() const { return model_; }
+  long vertex_count() const { return rest_.rows(); }           ///< surface + interior
+  long surface_vertex_count() const { return surface_vertices_; }
+  long element_count() const { return element_weights_.size(); }
+  const Eigen::MatrixXd& rest() const { return rest_; }        ///< all vertices at rest (n×3)
+  const Eigen::MatrixXi& tetrahedra() const { return tetrahedra_; }
+
+  /// A factorisation of L + diag(weights) (weights per surface vertex, ≥ 0, dimensionless:
+  /// relative to the mean diagonal of L on the surface; at least one must be positive).
+  geometry::SparseCholesky factor(const Eigen::VectorXd& weights) const;
+
+  /// Iterates rotation fits and solves from `initial` (n×3 all vertices) towards `targets`
+  /// (surface×3) with `weights` (the ones `solver` was factored with). Returns all vertices.
+  Eigen::MatrixXd deform(const geometry::SparseCholesky& solver, const Eigen::MatrixXd& initial,
+                         const Eigen::MatrixXd& targets, const Eigen::VectorXd& weights, int iterations) const;
+
+  /// The deformation energy Σ_e D_e ‖∇x − R_e∇x₀‖² of `positions` with best-fit rotations (normalised
+  /// like L); zero for rigid motions.
+  double rigidity_energy(const Eigen::MatrixXd& positions) const;
+
+ private:
+  Eigen::MatrixXd rotated_gradients(const Eigen::MatrixXd& positions) const;
+
+  std::string model_;
+  Eigen::MatrixXd rest_;
+  Eigen::MatrixXi tetrahedra_;
+  long surface_vertices_ = 0;
+  Eigen::SparseMatrix<double> G_;            ///< 3E×n
+  Eigen::SparseMatrix<double> GtD_;          ///< Gᵀ D / scale
+  Eigen::SparseMatrix<double> L_;            ///< GᵀDG / scale
+  Eigen::VectorXd element_weights_;          ///< D per element
+  Eigen::MatrixXd rest_gradients_;           ///< 3E×3: ∇x₀ per element
+  double scale_ = 1;
+};
+
+}  // namespace surfcap::align

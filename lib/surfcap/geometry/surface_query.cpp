@@ -1,0 +1,95 @@
+#include "surfcap/geometry/surface_query.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "surfcap/core/error.hpp"
+
+namespace surfcap::geometry {
+
+namespace {
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using Triangle = Kernel::Triangle_3;
+using Ray = Kernel::Ray_3;
+using Iterator = std::vector<Triangle>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Point to_point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
+}  // namespace
+
+struct SurfaceQuery::Impl {
+  std::vector<Triangle> triangles;
+  std::vector<long> face_of;  ///< triangle → face index of F
+  Tree tree;
+};
+
+Eigen::Vector3d barycentric_coordinates(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                        const Eigen::Vector3d& c) {
+  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double denominator = d00 * d11 - d01 * d01;
+  if (std::abs(denominator) < 1e-300) return {1.0, 0.0, 0.0};
+  const double v = (d11 * d20 - d01 * d21) / denominator;
+  const double w = (d00 * d21 - d01 * d20) / denominator;
+  return {1.0 - v - w, v, w};
+}
+
+SurfaceQuery::SurfaceQuery(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F)
+    : impl_(std::make_unique<Impl>()), V_(V), F_(F), face_normals_(F.rows(), 3) {
+  impl_->triangles.reserve(static_cast<std::size_t>(F.rows()));
+  for (long f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double norm = n.norm();
+    face_normals_.row(f) = norm > 0 ? Eigen::RowVector3d(n.transpose() / norm) : Eigen::RowVector3d::Zero();
+    if (norm < 1e-20) continue;
+    impl_->triangles.emplace_back(to_point(a), to_point(b), to_point(c));
+    impl_->face_of.push_back(f);
+  }
+  if (impl_->triangles.empty()) throw core::internal_error("SurfaceQuery: the surface has no non-degenerate face");
+  impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
+  impl_->tree.build();
+  impl_->tree.accelerate_distance_queries();
+}
+
+SurfaceQuery::~SurfaceQuery() = default;
+SurfaceQuery::SurfaceQuery(SurfaceQuery&&) noexcept = default;
+SurfaceQuery& SurfaceQuery::operator=(SurfaceQuery&&) noexcept = default;
+
+SurfacePoint SurfaceQuery::closest_point(const Eigen::Vector3d& point) const {
+  const auto [closest, primitive] = impl_->tree.closest_point_and_primitive(to_point(point));
+  SurfacePoint result;
+  const auto index = static_cast<std::size_t>(primitive - impl_->triangles.cbegin());
+  result.face = impl_->face_of[index];
+  result.position = to_eigen(closest);
+  result.distance = (result.position - point).norm();
+  result.barycentric = barycentric_coordinates(result.position, V_.row(F_(result.face, 0)),
+                                               V_.row(F_(result.face, 1)), V_.row(F_(result.face, 2)));
+  return result;
+}
+
+std::optional<SurfacePoint> SurfaceQuery::first_hit(const Eigen::Vector3d& origin,
+                                                    const Eigen::Vector3d& direction) const {
+  const Ray ray(to_point(origin), to_point(origin + direction));
+  const auto hit = impl_->tree.first_intersection(ray);
+  if (!hit) return std::nullopt;
+  const Point* point = boost::get<Point>(&hit->first);
+  if (point == nullptr) return std::nullopt;  // the ray runs inside a face's plane: no single hit point
+  SurfacePoint result;
+  result.face = impl_->face_of[static_cast<std::size_t>(hit->second - impl_->triangles.cbegin())];
+  result.position = to_eigen(*point);
+  result.distance = (result.position - origin).norm();
+  result.barycentric = barycentric_coordinates(result.position, V_.row(F_(result.face, 0)),
+                                               V_.row(F_(result.face, 1)), V_.row(F_(result.face, 2)));
+  return result;
+}
+
+}  // namespace surfcap::geometry

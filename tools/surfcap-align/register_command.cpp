@@ -1,0 +1,189 @@
+#include "register_command.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <memory>
+
+#include "surfcap/align/alignment_report.hpp"
+#include "surfcap/align/ground_truth_error.hpp"
+#include "surfcap/align/tree_alignment.hpp"
+#include "surfcap/core/database.hpp"
+#include "surfcap/core/error.hpp"
+#include "surfcap/core/npy.hpp"
+#include "surfcap/core/progress.hpp"
+#include "surfcap/core/report.hpp"
+#include "surfcap/core/version.hpp"
+#include "surfcap/similarity/preview.hpp"
+#include "surfcap/similarity/similarity_files.hpp"
+
+namespace surfcap::tools {
+
+struct RegisterCommands::State {
+  CLI::App* register_cmd = nullptr;
+  CLI::App* run_cmd = nullptr;
+  std::string capture;
+  std::string out;
+  std::string root;
+  align::RegisterOptions options;
+  bool surface_model = false;
+  bool no_evaluation = false;
+  int preview_frames = 4;
+  double preview_scale_mm = 10;
+  similarity::ShapeHistogramOptions histogram;
+  similarity::SimilarityOptions similarity;
+};
+
+namespace {
+
+void add_alignment_options(CLI::App* cmd, RegisterCommands* /*unused*/, align::RegisterOptions& options,
+                           bool& surface_model, bool& no_evaluation, int& preview_frames, double& preview_scale_mm) {
+  auto& p = options.pairwise;
+  cmd->add_option("--patches", p.initial_patches, "Rigid patches at the coarsest level (doubling per level)");
+  cmd->add_option("--levels", p.levels, "Coarse-to-fine patch levels");
+  cmd->add_option("--patch-icp-iterations", p.patch_icp_iterations, "ICP iterations per patch fit");
+  cmd->add_option("--rotation-iterations", p.rotation_iterations, "Rotation updates (solves) per level");
+  cmd->add_option("--patch-weight", p.patch_weight, "Soft-constraint weight of patch targets");
+  cmd->add_option("--dense-iterations", p.dense_iterations, "Dense closest-point fitting iterations");
+  cmd->add_option("--dense-weight", p.dense_weight, "Soft-constraint weight of dense targets");
+  cmd->add_option("--normal-compatibility", p.normal_compatibility, "Minimum cosine between matched normals");
+  cmd->add_option("--coarse-distance", p.coarse_distance,
+                  "Correspondence gate at the coarsest level, fraction of the template height");
+  cmd->add_option("--dense-distance", p.dense_distance_edges, "Dense-fit gate in template mean edge lengths");
+  cmd->add_option("--heading-samples", p.heading_samples, "Headings tried when frames do not overlap rigidly");
+  cmd->add_option("--interior-spacing", options.deformer.tetrahedra.interior_spacing_edges,
+                  "Interior points of the tet mesh: grid spacing in template mean edges (≤ 0: none)");
+  cmd->add_flag("--surface-model", surface_model, "Deform with a surface Laplacian instead of the tet volume");
+  cmd->add_flag("--no-evaluation", no_evaluation, "Do not compare with ground_truth/ even if the capture has it");
+  cmd->add_option("--preview-frames", preview_frames, "Frames in report/alignment.png (0: none)")
+      ->check(CLI::Range(0, 8));
+  cmd->add_option("--preview-scale-mm", preview_scale_mm, "Residual mapped to red in the preview (mm)")
+      ->check(CLI::PositiveNumber);
+}
+
+void register_frames(const RegisterCommands::State& state, const core::ToolApp& app, core::StageReport& report) {
+  const std::filesystem::path out = state.out;
+  const similarity::HistogramSet set = similarity::read_histograms(out);
+  const std::string capture_path = state.capture.empty() ? set.capture : state.capture;
+  if (capture_path.empty()) throw core::bad_arguments("register: --capture is required (histograms.json names none)");
+  const core::Capture capture = core::read_capture(capture_path);
+  const align::AlignmentTree tree = align::read_alignment_tree(out, set.histograms.rows());
+  align::RegisterOptions options = state.options;
+  options.threads = app.common().threads;
+  options.deformer.volumetric = !state.surface_model;
+  align::Registration registration;
+  {
+    auto timer = report.time("alignment");
+    core::ProgressReporter progress("align", static_cast<std::size_t>(set.histograms.rows()));
+    registration = align::register_capture(capture, set.frames, tree, options, progress.callback());
+  }
+  registration.database.provenance = {{"tool", "surfcap-align register"},
+                                      {"version", std::string(core::version())},
+                                      {"options", app.options_json()},
+                                      {"alignment", options.pairwise.to_json()},
+                                      {"inputs", {{"capture", capture_path}, {"tree", (out / "similarity" / "tree.json").string()}}}};
+  {
+    auto timer = report.time("write_database");
+    core::write_database(out, registration.database);
+  }
+  auto& figures = report.figures();
+  figures.update(align::alignment_figures(registration));
+  if (!state.no_evaluation && align::ground_truth_file(capture)) {
+    auto timer = report.time("ground_truth_error");
+    const align::TruthEvaluation evaluation = align::evaluate_against_truth(capture, registration);
+    figures["ground_truth"] = evaluation.to_json(registration);
+    core::Json per_frame = core::Json::array();
+    for (const auto& frame : evaluation.frames) per_frame.push_back({{"rms_m", frame.rms}, {"max_m", frame.max}});
+    figures["ground_truth"]["frames"] = per_frame;
+    spdlog::info("error against ground truth: RMS {:.2f} mm ({:.3f}% of {:.2f} m), worst frame {} {:.2f} mm ({:.3f}%)",
+                 1000 * evaluation.rms, 100 * evaluation.rms / evaluation.height, evaluation.height,
+                 figures["ground_truth"]["worst_frame"].get<std::string>(), 1000 * evaluation.worst_frame_rms,
+                 100 * evaluation.worst_frame_rms / evaluation.height);
+  }
+  if (state.preview_frames > 0) {
+    auto timer = report.time("preview");
+    align::write_residual_preview(out / "report" / "alignment.png", capture, registration,
+                                  align::preview_nodes(registration, state.preview_frames),
+                                  state.preview_scale_mm / 1000);
+  }
+  figures["options"] = app.options_json();
+  spdlog::info("aligned {} frames (mean residual {:.2f} mm) → {}/database.json", registration.frames.size(),
+               1000 * figures["summary"]["mean_residual_m"].get<double>(), out.string());
+}
+
+void run_similarity_chain(const RegisterCommands::State& state, const core::ToolApp& app, core::StageReport& report) {
+  const std::filesystem::path out = state.out;
+  const core::Capture capture = core::read_capture(state.capture);
+  core::check_capture_files(capture);
+  similarity::HistogramSet set;
+  {
+    auto timer = report.time("histograms");
+    core::ProgressReporter progress("histograms", static_cast<std::size_t>(capture.total_frames()));
+    set = similarity::compute_histograms(capture, state.histogram, app.common().threads, progress.callback());
+  }
+  similarity::write_histograms(out, set);
+  const similarity::FrameIndex index = set.frames.index();
+  similarity::FloatRows matrix;
+  {
+    auto timer = report.time("similarity");
+    auto options = state.similarity;
+    options.threads = app.common().threads;
+    core::ProgressReporter progress("similarity", static_cast<std::size_t>(index.frames()));
+    matrix = similarity::similarity_rows(set.histograms, set.options, index, 0, index.frames(), options,
+                                         progress.callback());
+  }
+  core::write_npy(similarity::matrix_path(out), matrix.data(),
+                  {static_cast<std::size_t>(matrix.rows()), static_cast<std::size_t>(matrix.cols())});
+  similarity::write_similarity_png(out / "similarity" / "matrix.png", matrix, index);
+  similarity::SimilarityTree tree;
+  {
+    auto timer = report.time("tree");
+    std::optional<int> root;
+    if (!state.root.empty()) root = static_cast<int>(set.frames.node(state.root));
+    tree = similarity::similarity_tree(matrix.cast<double>(), root);
+  }
+  similarity::write_tree(out, tree, set.frames);
+  similarity::write_similarity_png(out / "similarity" / "tree.png", matrix, index, &tree);
+  report.figures()["tree"] = {{"root", set.frames.label(tree.root)}, {"threshold", tree.threshold},
+                              {"components_after_pruning", tree.components_after_pruning},
+                              {"max_depth", *std::max_element(tree.depth.begin(), tree.depth.end())}};
+}
+
+}  // namespace
+
+RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::make_unique<State>()) {
+  auto& cli = app.cli();
+  State& s = *state_;
+  s.register_cmd = cli.add_subcommand("register", "Non-rigid alignment along similarity/tree.json → database.json");
+  s.register_cmd->add_option("--out", s.out, "Database folder holding similarity/ (written into)")->required();
+  s.register_cmd->add_option("--capture", s.capture, "Capture folder (default: the one histograms.json names)");
+  add_alignment_options(s.register_cmd, this, s.options, s.surface_model, s.no_evaluation, s.preview_frames,
+                        s.preview_scale_mm);
+
+  s.run_cmd = cli.add_subcommand("run", "histograms → similarity → tree → register in one go");
+  s.run_cmd->add_option("--capture", s.capture, "Capture folder (or its capture.json)")->required();
+  s.run_cmd->add_option("--out", s.out, "Database folder to write")->required();
+  s.run_cmd->add_option("--root", s.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth)");
+  s.run_cmd->add_option("--voxel-size", s.histogram.voxel_size, "Volume sampling grid spacing (m)");
+  s.run_cmd->add_option("--window", s.similarity.temporal_window, "Temporal filter half-width k (frames)")
+      ->check(CLI::Range(0, 50));
+  add_alignment_options(s.run_cmd, this, s.options, s.surface_model, s.no_evaluation, s.preview_frames,
+                        s.preview_scale_mm);
+}
+
+RegisterCommands::~RegisterCommands() = default;
+
+void RegisterCommands::run() const {
+  const State& s = *state_;
+  if (*s.run_cmd) {
+    core::StageReport report("align.run");
+    run_similarity_chain(s, app_, report);
+    register_frames(s, app_, report);
+    report.write(std::filesystem::path(s.out) / "report" / "alignment.json");
+  } else if (*s.register_cmd) {
+    core::StageReport report("align.register");
+    register_frames(s, app_, report);
+    report.write(std::filesystem::path(s.out) / "report" / "alignment.json");
+  }
+}
+
+}  // namespace surfcap::tools
