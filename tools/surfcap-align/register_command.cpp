@@ -49,6 +49,7 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands* /*unused*/, align::R
   cmd->add_option("--coarse-distance", p.coarse_distance,
                   "Correspondence gate at the coarsest level, fraction of the template height");
   cmd->add_option("--dense-distance", p.dense_distance_edges, "Dense-fit gate in template mean edge lengths");
+  cmd->add_option("--color-sigma", p.color_sigma, "Photometric dense fit: colour σ (RGB 0..1; 0: geometry only)");
   cmd->add_option("--heading-samples", p.heading_samples, "Headings tried when frames do not overlap rigidly");
   cmd->add_option("--interior-spacing", options.deformer.tetrahedra.interior_spacing_edges,
                   "Interior points of the tet mesh: grid spacing in template mean edges (≤ 0: none)");

@@ -76,7 +76,7 @@ core::Json alignment_figures(const Registration& registration) {
                       {"mean_residual_m", a.mean_residual},
                       {"max_residual_m", a.max_residual},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
-                                           {"feature", a.feature_constraints}}},
+                                           {"feature", a.feature_constraints}, {"color", a.color_constraints}}},
                       {"accepted_patches", a.accepted_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/core/error.hpp"
@@ -74,6 +75,35 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   return best;
 }
 
+/// Target vertices binned on a uniform grid, for radius searches.
+class VertexGrid {
+ public:
+  VertexGrid(const Eigen::MatrixXd& V, double cell) : V_(V), cell_(cell) {
+    for (long v = 0; v < V.rows(); ++v) bins_[key(V.row(v).transpose())].push_back(v);
+  }
+  template <class Visit>
+  void around(const Eigen::Vector3d& p, Visit&& visit) const {
+    const Eigen::Vector3i c = (p / cell_).array().floor().cast<int>();
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = bins_.find(pack(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == bins_.end()) continue;
+          for (const long v : it->second) visit(v);
+        }
+  }
+
+ private:
+  static std::int64_t pack(const Eigen::Vector3i& c) {
+    return (static_cast<std::int64_t>(c.x() & 0x1FFFFF) << 42) | (static_cast<std::int64_t>(c.y() & 0x1FFFFF) << 21) |
+           static_cast<std::int64_t>(c.z() & 0x1FFFFF);
+  }
+  std::int64_t key(const Eigen::Vector3d& p) const { return pack((p / cell_).array().floor().cast<int>()); }
+  const Eigen::MatrixXd& V_;
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<long>> bins_;
+};
+
 }  // namespace
 
 void PairwiseOptions::validate() const {
@@ -98,7 +128,8 @@ core::Json PairwiseOptions::to_json() const {
           {"patch_weight", patch_weight}, {"min_patch_inliers", min_patch_inliers},
           {"dense_iterations", dense_iterations}, {"dense_weight", dense_weight},
           {"normal_compatibility", normal_compatibility}, {"coarse_distance", coarse_distance},
-          {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples}};
+          {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples},
+          {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges}};
 }
 
 AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer)
@@ -120,7 +151,8 @@ Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry
 }
 
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
-                          const geometry::SurfaceQuery& target, const PairwiseOptions& options) {
+                          const geometry::SurfaceQuery& target, const PairwiseOptions& options,
+                          const Eigen::MatrixXd* target_colors) {
   const VolumeDeformer& deformer = model.deformer();
   const long surface_count = deformer.surface_vertex_count();
   const Eigen::MatrixXi& F = model.mesh().F;
@@ -182,6 +214,11 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
 
   // Dense fit: every surface vertex towards its compatible closest point on the reconstruction.
   const double dense_gate = options.dense_distance_edges * model.mean_edge();
+  const double color_radius = options.color_radius_edges * model.mean_edge();
+  std::unique_ptr<VertexGrid> grid;
+  if (options.color_sigma > 0 && target_colors != nullptr && model.mesh().has_colors() &&
+      target_colors->rows() == target.vertices().rows())
+    grid = std::make_unique<VertexGrid>(target.vertices(), color_radius);
   for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
     start = Clock::now();
     const Eigen::MatrixXd surface = positions.topRows(surface_count);
@@ -189,12 +226,37 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     Eigen::MatrixXd targets = surface;
     Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
     long matched = 0;
+    result.color_constraints = 0;
     for (long v = 0; v < surface_count; ++v) {
       geometry::SurfacePoint closest;
       if (!compatible_closest_point(target, surface.row(v).transpose(), normals.row(v).transpose(), dense_gate,
                                     options.normal_compatibility, closest))
         continue;
-      targets.row(v) = closest.position.transpose();
+      Eigen::Vector3d goal = closest.position;
+      if (grid) {
+        // Photometric target: target vertices near the closest point, weighted by colour agreement.
+        const Eigen::Vector3d colour = model.mesh().colors.row(v).transpose();
+        const double radius2 = color_radius * color_radius;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        double weight_sum = 0;
+        grid->around(closest.position, [&](long j) {
+          const Eigen::Vector3d x = target.vertices().row(j).transpose();
+          const double d2 = (x - closest.position).squaredNorm();
+          if (d2 > radius2) return;
+          const double c2 = (target_colors->row(j).transpose() - colour).squaredNorm();
+          const double w = std::exp(-c2 / (2 * options.color_sigma * options.color_sigma) - d2 / (2 * radius2 / 4));
+          sum += w * x;
+          weight_sum += w;
+        });
+        if (weight_sum > 1e-6) {
+          const geometry::SurfacePoint projected = target.closest_point(sum / weight_sum);
+          if (target.face_normal(projected.face).dot(normals.row(v).transpose()) >= options.normal_compatibility) {
+            goal = projected.position;
+            ++result.color_constraints;
+          }
+        }
+      }
+      targets.row(v) = goal.transpose();
       weights(v) = options.dense_weight;
       ++matched;
     }

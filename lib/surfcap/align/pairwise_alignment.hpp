@@ -29,6 +29,10 @@ struct PairwiseOptions {
   double coarse_distance = 0.08;    ///< correspondence gate at level 0, fraction of the template's height
   double dense_distance_edges = 3;  ///< dense-fit gate, in template mean edge lengths
   int heading_samples = 12;         ///< headings tried when the frames do not overlap rigidly
+  /// Photometric dense fit: when both meshes have vertex colours, each dense target is the
+  /// colour-weighted mean of the target vertices near the closest point (σ in RGB 0..1; ≤ 0: off).
+  double color_sigma = 0.15;
+  double color_radius_edges = 1.5;  ///< search radius of the photometric target, in template mean edges
   /// Throws bad_arguments naming the offending option.
   void validate() const;
   core::Json to_json() const;
@@ -65,6 +69,7 @@ struct PairwiseResult {
   long patch_constraints = 0;   ///< vertices constrained by accepted patch fits (summed over levels)
   long dense_constraints = 0;   ///< closest-point constraints of the last dense iteration
   long feature_constraints = 0; ///< image feature matches used (0: geometric only)
+  long color_constraints = 0;   ///< dense targets moved by vertex colours (last dense iteration)
   int accepted_patches = 0, total_patches = 0;
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
@@ -76,8 +81,10 @@ struct PairwiseResult {
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
-/// reconstruction, queried through `target_query`).
+/// reconstruction, queried through `target_query`); `target_colors` (per target vertex, 0..1) enables
+/// the photometric dense fit when the template has colours too.
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
-                          const geometry::SurfaceQuery& target_query, const PairwiseOptions& options);
+                          const geometry::SurfaceQuery& target_query, const PairwiseOptions& options,
+                          const Eigen::MatrixXd* target_colors = nullptr);
 
 }  // namespace surfcap::align

@@ -143,7 +143,8 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       const NodeFrame child = nodes[static_cast<std::size_t>(edge.child)];
       const core::Mesh target = read_reconstruction(capture, child.sequence, child.frame);
       const geometry::SurfaceQuery query(target.V, target.F);
-      PairwiseResult result = align_pair(model, positions[static_cast<std::size_t>(edge.parent)], query, options.pairwise);
+      PairwiseResult result = align_pair(model, positions[static_cast<std::size_t>(edge.parent)], query, options.pairwise,
+                                         target.has_colors() ? &target.colors : nullptr);
       positions[static_cast<std::size_t>(edge.child)] = std::move(result.positions);
       result.positions.resize(0, 0);
       auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
