@@ -37,7 +37,7 @@ done
 "$build/tools/surfcap-align" run --capture "$out/capture" --out "$out/db" --threads "$threads"
 perl -MJSON::PP -e '
   local $/; open(my $f, "<", $ARGV[0]) or die; my $r = decode_json(<$f>); my $g = $r->{ground_truth};
-  printf "dance: %d frames, template %d vertices; RMS error %.2f mm = %.3f%% of %.2f m; worst frame %s %.2f mm (%.3f%%)\n",
+  printf "dance: %d frames, deformer %d vertices (surface + interior); RMS error %.2f mm = %.3f%% of %.2f m; worst frame %s %.2f mm (%.3f%%)\n",
     scalar @{$r->{frames}}, $r->{summary}{volume_vertices}, 1000*$g->{rms_m}, $g->{rms_percent_height}, $g->{height_m},
     $g->{worst_frame}, 1000*$g->{worst_frame_rms_m}, $g->{worst_frame_rms_percent_height};
   printf "  depth %3d: %.3f%%\n", $_->{depth}, $_->{rms_percent_height} for @{$g->{by_depth}};

@@ -133,7 +133,8 @@ core::Json PairwiseOptions::to_json() const {
 }
 
 AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer)
-    : mesh_(std::move(mesh)),
+    : seconds_tetrahedralisation_(0),
+      mesh_(std::move(mesh)),
       deformer_([&] {
         const auto start = Clock::now();
         VolumeDeformer built(mesh_, deformer);

@@ -50,12 +50,12 @@ class AlignmentTemplate {
   double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
 
  private:
+  double seconds_tetrahedralisation_ = 0;  // before deformer_: its initialiser sets it
   core::Mesh mesh_;
   VolumeDeformer deformer_;
   std::vector<PatchSet> patches_;
   double mean_edge_ = 0;
   double height_ = 0;
-  double seconds_tetrahedralisation_ = 0;
 };
 
 struct PairwiseTimings {
