@@ -43,7 +43,7 @@ fi
 
 [ "$build" -eq 1 ] || exit 0
 jobs=${SURFCAP_JOBS:-$(nproc)}
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${cmake_options[@]}" > "$build_dir.configure.log" 2>&1 \
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSURFCAP_MODULES= "${cmake_options[@]}" > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }
 rm -f "$build_dir.configure.log"
 echo "setup: building into $build_dir/ with $jobs jobs"
