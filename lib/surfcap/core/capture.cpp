@@ -32,7 +32,7 @@ Json matrix_json(const Eigen::MatrixXd& matrix) {
   return values;
 }
 
-std::vector<CaptureCamera> read_cameras(const std::filesystem::path& file) {
+std::vector<CaptureCamera> parse_cameras(const std::filesystem::path& file) {
   const Json document = read_json_document(file, "cameras", 1);
   std::vector<CaptureCamera> cameras;
   std::set<std::string> names;
@@ -64,7 +64,7 @@ std::vector<CaptureCamera> read_cameras(const std::filesystem::path& file) {
 
 std::vector<CaptureCamera> read_cameras_checked(const std::filesystem::path& file) {
   try {
-    return read_cameras(file);
+    return parse_cameras(file);
   } catch (const nlohmann::json::exception& e) {
     throw bad_input(file, std::string("a field has the wrong type: ") + e.what());
   }
@@ -196,6 +196,17 @@ void check_capture_files(const Capture& capture) {
   }
 }
 
+std::vector<CaptureCamera> read_cameras(const std::filesystem::path& path) { return read_cameras_checked(path); }
+
+void write_cameras(const std::filesystem::path& path, const std::vector<CaptureCamera>& cameras) {
+  Json list = Json::array();
+  for (const auto& camera : cameras)
+    list.push_back({{"name", camera.name}, {"width", camera.width}, {"height", camera.height},
+                    {"K", matrix_json(camera.K)}, {"dist", matrix_json(camera.distortion)},
+                    {"R", matrix_json(camera.R)}, {"t", matrix_json(camera.t)}});
+  write_json_file(path, {{"format", format_tag("cameras", 1)}, {"cameras", list}});
+}
+
 void write_capture(const Capture& capture) {
   Json sequences = Json::array();
   for (const auto& sequence : capture.sequences) {
@@ -207,12 +218,7 @@ void write_capture(const Capture& capture) {
   Json document = {{"format", format_tag("capture", 1)}, {"name", capture.name}, {"units", capture.units},
                    {"up", capture.up}, {"fps", capture.fps}, {"sequences", sequences}};
   if (!capture.cameras.empty()) {
-    Json cameras = Json::array();
-    for (const auto& camera : capture.cameras)
-      cameras.push_back({{"name", camera.name}, {"width", camera.width}, {"height", camera.height},
-                         {"K", matrix_json(camera.K)}, {"dist", matrix_json(camera.distortion)},
-                         {"R", matrix_json(camera.R)}, {"t", matrix_json(camera.t)}});
-    write_json_file(capture.folder / "cameras.json", {{"format", format_tag("cameras", 1)}, {"cameras", cameras}});
+    write_cameras(capture.folder / "cameras.json", capture.cameras);
     document["cameras"] = "cameras.json";
   }
   write_json_file(capture.folder / "capture.json", document);

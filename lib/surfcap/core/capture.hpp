@@ -59,6 +59,10 @@ void check_capture_files(const Capture& capture);
 /// Writes capture.json and (if there are cameras) cameras.json into capture.folder, atomically.
 void write_capture(const Capture& capture);
 
+/// cameras.json (`surfcap.cameras/1`) on its own; read_capture and write_capture use these.
+std::vector<CaptureCamera> read_cameras(const std::filesystem::path& path);
+void write_cameras(const std::filesystem::path& path, const std::vector<CaptureCamera>& cameras);
+
 /// Width and height from a PNG file's IHDR chunk; bad_input if it is not a PNG.
 std::pair<int, int> png_size(const std::filesystem::path& path);
 

@@ -7,25 +7,6 @@
 #include "surfcap/core/error.hpp"
 
 namespace surfcap::render {
-namespace {
-
-std::vector<double> row_major(const Eigen::Matrix3d& M) {
-  std::vector<double> values;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) values.push_back(M(r, c));
-  return values;
-}
-
-Eigen::Matrix3d matrix_field(const core::Json& entry, const char* key, const std::filesystem::path& source) {
-  const auto values = core::get_field<std::vector<double>>(entry, key, source);
-  if (values.size() != 9) throw core::bad_input(source, std::string("camera field \"") + key + "\" must hold 9 numbers");
-  Eigen::Matrix3d M;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) M(r, c) = values[static_cast<std::size_t>(r * 3 + c)];
-  return M;
-}
-
-}  // namespace
 
 Eigen::Vector2d Camera::project(const Eigen::Vector3d& world) const {
   const Eigen::Vector3d p = K * to_camera(world);
@@ -63,53 +44,40 @@ std::vector<Camera> ring_cameras(int count, double radius, double height, const 
   return cameras;
 }
 
-core::Json cameras_to_json(const std::vector<Camera>& cameras) {
-  core::Json list = core::Json::array();
-  for (const auto& camera : cameras)
-    list.push_back({{"name", camera.name},
-                    {"width", camera.width},
-                    {"height", camera.height},
-                    {"K", row_major(camera.K)},
-                    {"dist", std::vector<double>(camera.dist.begin(), camera.dist.end())},
-                    {"R", row_major(camera.R)},
-                    {"t", std::vector<double>{camera.t.x(), camera.t.y(), camera.t.z()}}});
-  return {{"format", core::format_tag("cameras", 1)}, {"cameras", list}};
+core::CaptureCamera to_capture_camera(const Camera& camera) {
+  core::CaptureCamera capture;
+  capture.name = camera.name;
+  capture.width = camera.width;
+  capture.height = camera.height;
+  capture.K = camera.K;
+  capture.R = camera.R;
+  capture.t = camera.t;
+  for (int k = 0; k < 5; ++k) capture.distortion(k) = camera.dist[static_cast<std::size_t>(k)];
+  return capture;
 }
 
-std::vector<Camera> cameras_from_json(const core::Json& document, const std::filesystem::path& source) {
-  const auto list = core::get_field<core::Json>(document, "cameras", source);
-  if (!list.is_array() || list.empty()) throw core::bad_input(source, "\"cameras\" must be a non-empty array");
-  std::vector<Camera> cameras;
-  for (const auto& entry : list) {
-    Camera camera;
-    camera.name = core::get_field<std::string>(entry, "name", source);
-    camera.width = core::get_field<int>(entry, "width", source);
-    camera.height = core::get_field<int>(entry, "height", source);
-    if (camera.width <= 0 || camera.height <= 0)
-      throw core::bad_input(source, "camera '" + camera.name + "' has a non-positive image size");
-    camera.K = matrix_field(entry, "K", source);
-    camera.R = matrix_field(entry, "R", source);
-    const auto t = core::get_field<std::vector<double>>(entry, "t", source);
-    if (t.size() != 3) throw core::bad_input(source, "camera '" + camera.name + "': \"t\" must hold 3 numbers");
-    camera.t = Eigen::Vector3d(t[0], t[1], t[2]);
-    if (entry.contains("dist")) {
-      const auto dist = core::get_field<std::vector<double>>(entry, "dist", source);
-      if (dist.size() != 5) throw core::bad_input(source, "camera '" + camera.name + "': \"dist\" must hold 5 numbers");
-      std::copy(dist.begin(), dist.end(), camera.dist.begin());
-    }
-    if ((camera.R * camera.R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || camera.R.determinant() < 0)
-      throw core::bad_input(source, "camera '" + camera.name + "': \"R\" is not a rotation");
-    cameras.push_back(std::move(camera));
-  }
-  return cameras;
+Camera from_capture_camera(const core::CaptureCamera& capture) {
+  Camera camera;
+  camera.name = capture.name;
+  camera.width = capture.width;
+  camera.height = capture.height;
+  camera.K = capture.K;
+  camera.R = capture.R;
+  camera.t = capture.t;
+  for (int k = 0; k < 5; ++k) camera.dist[static_cast<std::size_t>(k)] = capture.distortion(k);
+  return camera;
 }
 
 void write_cameras(const std::filesystem::path& path, const std::vector<Camera>& cameras) {
-  core::write_json_file(path, cameras_to_json(cameras));
+  std::vector<core::CaptureCamera> converted;
+  for (const auto& camera : cameras) converted.push_back(to_capture_camera(camera));
+  core::write_cameras(path, converted);
 }
 
 std::vector<Camera> read_cameras(const std::filesystem::path& path) {
-  return cameras_from_json(core::read_json_document(path, "cameras", 1), path);
+  std::vector<Camera> cameras;
+  for (const auto& camera : core::read_cameras(path)) cameras.push_back(from_capture_camera(camera));
+  return cameras;
 }
 
 }  // namespace surfcap::render

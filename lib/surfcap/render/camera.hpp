@@ -2,6 +2,7 @@
 // Pinhole cameras in OpenCV's convention (x right, y down, z forward; x_cam = R·X + t) and
 // cameras.json (DESIGN §3.1), shared by the renderer, surfcap-synth and the aligner.
 
+#include "surfcap/core/capture.hpp"
 #include <Eigen/Core>
 #include <array>
 #include <filesystem>
@@ -41,10 +42,10 @@ Camera look_at(const std::string& name, const Eigen::Vector3d& eye, const Eigen:
 std::vector<Camera> ring_cameras(int count, double radius, double height, const Eigen::Vector3d& target,
                                  double vertical_fov_degrees, int width, int height_pixels);
 
-/// {"format":"surfcap.cameras/1","cameras":[{"name","width","height","K","dist","R","t"}]}, row-major.
-core::Json cameras_to_json(const std::vector<Camera>& cameras);
-/// Parses and checks cameras.json content; bad_input names `source`.
-std::vector<Camera> cameras_from_json(const core::Json& document, const std::filesystem::path& source);
+/// The calibration as the capture folder stores it (core/capture owns the cameras.json format).
+core::CaptureCamera to_capture_camera(const Camera& camera);
+Camera from_capture_camera(const core::CaptureCamera& camera);
+/// cameras.json through core::write_cameras / core::read_cameras (checked: bad_input names the file).
 void write_cameras(const std::filesystem::path& path, const std::vector<Camera>& cameras);
 std::vector<Camera> read_cameras(const std::filesystem::path& path);
 

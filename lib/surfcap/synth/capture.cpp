@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "surfcap/core/capture.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
@@ -226,21 +227,20 @@ void write_contact_sheet(const Scene& scene, const Actor& actor, const std::vect
   render::write_png(path, render::contact_sheet(images, options));
 }
 
-void write_capture_json(const Scene& scene, const std::filesystem::path& directory) {
-  core::Json sequences = core::Json::array();
-  for (const auto& motion : scene.sequences) {
-    core::Json entry = {{"name", motion.name}, {"frames", motion.name + "/mesh/{frame:06d}.ply"},
-                        {"first", 0}, {"count", motion.frames}};
-    if (scene.images) entry["images"] = motion.name + "/images/{camera}/{frame:06d}.png";
-    sequences.push_back(entry);
-  }
-  core::write_json_file(directory / "capture.json", {{"format", core::format_tag("capture", 1)},
-                                                     {"name", scene.name},
-                                                     {"units", "m"},
-                                                     {"up", "y"},
-                                                     {"fps", scene.fps},
-                                                     {"cameras", "cameras.json"},
-                                                     {"sequences", sequences}});
+/// capture.json and cameras.json through core::write_capture (the one writer of the format);
+/// capture.json is written last, so its presence means the folder is complete.
+void write_capture_files(const Scene& scene, const std::vector<render::Camera>& cameras,
+                         const std::filesystem::path& directory) {
+  core::Capture capture;
+  capture.folder = directory;
+  capture.name = scene.name;
+  capture.fps = scene.fps;
+  for (const auto& camera : cameras) capture.cameras.push_back(render::to_capture_camera(camera));
+  for (const auto& motion : scene.sequences)
+    capture.sequences.push_back({motion.name, motion.name + "/mesh/{frame:06d}.ply",
+                                 scene.images ? motion.name + "/images/{camera}/{frame:06d}.png" : "", 0,
+                                 motion.frames});
+  core::write_capture(capture);
 }
 
 }  // namespace
@@ -310,10 +310,8 @@ void generate_capture(const Scene& scene, const std::filesystem::path& directory
     auto timer = report.time("ground_truth");
     write_ground_truth(scene, actor, slots, directory / "ground_truth");
     write_contact_sheet(scene, actor, cameras, slots, directory / "ground_truth" / "contact_sheet.png");
-    render::write_cameras(directory / "cameras.json", cameras);
   }
-  // Last: a capture.json means the folder is complete.
-  write_capture_json(scene, directory);
+  write_capture_files(scene, cameras, directory);
 
   long min_vertices = std::numeric_limits<long>::max(), max_vertices = 0;
   double noise_sum = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/json_document.hpp"
 #include "surfcap/render/camera.hpp"
 #include "surfcap/render/colormap.hpp"
 #include "surfcap/render/contact_sheet.hpp"
@@ -57,10 +58,11 @@ TEST(Camera, JsonRoundTripAndValidation) {
     EXPECT_TRUE(read[i].R.isApprox(cameras[i].R));
     EXPECT_LT((read[i].t - cameras[i].t).norm(), 1e-12);
   }
-  auto document = render::cameras_to_json(cameras);
+  auto document = core::read_json_file(dir / "cameras.json");
   document["cameras"][1]["R"] = std::vector<double>{2, 0, 0, 0, 1, 0, 0, 0, 1};
+  core::write_json_file(dir / "bad.json", document);
   try {
-    render::cameras_from_json(document, "x.json");
+    render::read_cameras(dir / "bad.json");
     FAIL() << "a non-rotation R was accepted";
   } catch (const core::Error& e) {
     EXPECT_EQ(e.code(), core::ExitCode::bad_input);
