@@ -43,6 +43,8 @@ fi
 
 [ "$build" -eq 1 ] || exit 0
 jobs=${SURFCAP_JOBS:-$(nproc)}
+# ccache, when present, makes rebuilds (and builds of other checkouts of the tree) cheap.
+if command -v ccache >/dev/null 2>&1; then cmake_options+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSURFCAP_MODULES= "${cmake_options[@]}" > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }
 rm -f "$build_dir.configure.log"
