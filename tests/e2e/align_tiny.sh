@@ -31,7 +31,7 @@ perl -MJSON::PP -e '
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};
   die "root frame error above 0.2% (it is the template itself)\n" if $root->{rms_percent_height} > 0.2;
   my $frames = $r->{frames};
-  die "frame count\n" unless @$frames == 44;
+  die "frame count\n" unless @$frames == 92;
   for my $fr (@$frames) {
     next if $fr->{parent} < 0;
     die "frame $fr->{sequence}:$fr->{frame} has no dense correspondences\n" unless $fr->{correspondences}{dense} > 0;

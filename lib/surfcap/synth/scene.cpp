@@ -59,7 +59,8 @@ Scene preset_scene(const std::string& name) {
     scene.studio.cameras = 4;
     scene.studio.width = 320;
     scene.studio.height = 240;
-    scene.sequences = {gait("walk", 24, 1, 1.3), gait("run", 20, 1, 3.0)};
+    scene.sequences = {gait("walk", 24, 1, 1.3), gait("run", 20, 1, 3.0), jump("jump_low", 24, 0.15, 0.3),
+                       jump("jump_high", 24, 0.35, 0.3)};
   } else if (name == "demo") {
     scene.body.target_vertices = 3000;
     scene.sequences = {gait("walk", 28, 1, 1.3), gait("run", 36, 2, 3.0), jump("jump_low", 40, 0.15, 0.3),
