@@ -15,6 +15,12 @@ namespace {
 
 asset::Character test_character() {
   asset::Character c = testing::synthetic_character(testing::make_sphere(8, 12, 0.5));
+  // A template coordinate and a frame coordinate whose float32 difference loses bits
+  // (template + (frame − template) ≠ frame): the reader needs the writer's correction.
+  float b = 0, f = 0;
+  for (int i = 1; b + (f - b) == f; ++i) b = 1e-3f * i / 7, f = 0.3f + i * 1e-4f;
+  c.template_mesh.V(1, 0) = b;
+  c.sequences[0].frames[0](1, 0) = f;
   render::Image texture(4, 2, Eigen::Vector3d(0.2, 0.4, 0.6));
   c.texture_png = render::encode_png(texture);
   return c;
@@ -173,6 +179,8 @@ TEST(CharacterGlb, SequencesAreMorphTargetAnimations) {
   EXPECT_TRUE(primitive["attributes"].contains("TEXCOORD_0"));
   EXPECT_EQ(json["images"][0]["mimeType"], "image/png");
   EXPECT_EQ(json["extensionsUsed"][0], "SURFCAP_motion_graph");
+  // The coordinate of test_character() that loses bits in frame − template travels as a correction.
+  EXPECT_TRUE(json["extensions"]["SURFCAP_motion_graph"]["sequences"][0].contains("corrections"));
   EXPECT_FALSE(json.contains("extensionsRequired"));  // viewers may ignore it
 }
 
