@@ -42,6 +42,7 @@ struct CharacterTransition {
 struct Character {
   std::string name;
   core::Mesh template_mesh;  ///< the one topology, with its colours / UVs
+  std::vector<std::uint8_t> texture_png;  ///< optional base-colour texture (PNG bytes) mapped by template_mesh.uvs
   double fps = 25.0;
   std::string units = "m";
   std::vector<core::AlignedSequence> sequences;  ///< captured sequences (glTF morph-target animations)
