@@ -1,7 +1,8 @@
 #pragma once
-// A small motion space built in memory (no pipeline run): 2 sources of V vertices and T frames,
-// 3 grid nodes {0, 0.5, 1}, a displacement field at the middle node, root motion walking along
-// +x at a source-dependent speed. For graph and runtime unit tests.
+// A motion space built in memory (no pipeline run): 2 sources of V vertices and T frames,
+// `nodes` grid nodes evenly spaced in [0, 1] (default {0, 0.5, 1}), displacement fields on
+// `displaced_fraction` of the vertices at every inner node, root motion walking along +x at a
+// source-dependent speed. For graph and runtime unit tests and the runtime benchmarks.
 #include <cmath>
 #include <random>
 #include <string>
@@ -12,7 +13,8 @@
 namespace surfcap::testing {
 
 inline asset::CharacterSpace synthetic_space(const std::string& name, long V, int T, bool cyclic, unsigned seed,
-                                             double speed0 = 0.04, double speed1 = 0.08) {
+                                             double speed0 = 0.04, double speed1 = 0.08, int nodes = 3,
+                                             double displaced_fraction = 0.5) {
   asset::CharacterSpace space;
   space.name = name;
   space.cyclic = cyclic;
@@ -21,8 +23,11 @@ inline asset::CharacterSpace synthetic_space(const std::string& name, long V, in
   space.sources = {{name + "_a", 0, T, (T - 1) / 25.0}, {name + "_b", 0, T, (T - 1) / 25.0}};
   space.parameter_names = {"u"};
   space.parameter_measures = {"root_speed"};
-  space.breakpoints = {{0.0, 0.5, 1.0}};
-  space.node_coordinates = {{0.0}, {0.5}, {1.0}};
+  space.breakpoints.assign(1, {});
+  for (int node = 0; node < nodes; ++node) {
+    space.breakpoints[0].push_back(static_cast<double>(node) / (nodes - 1));
+    space.node_coordinates.push_back({space.breakpoints[0].back()});
+  }
   std::mt19937 random(seed);
   std::normal_distribution<double> noise(0.0, 0.05);
   std::vector<double> base(static_cast<std::size_t>(V * 3));
@@ -44,12 +49,13 @@ inline asset::CharacterSpace synthetic_space(const std::string& name, long V, in
       root[3] = 0;
       space.time_warp[static_cast<std::size_t>(i) * T + t] = static_cast<float>(t);
     }
-  // Middle node: a displacement of the first V/2 vertices at every frame.
+  // Inner nodes: a displacement of the first V·fraction vertices at every frame.
   space.displacement_offsets.push_back(0);
-  for (int node = 0; node < 3; ++node)
+  const auto displaced = static_cast<long>(V * displaced_fraction);
+  for (int node = 0; node < nodes; ++node)
     for (int t = 0; t < T; ++t) {
-      if (node == 1)
-        for (long v = 0; v < V / 2; ++v) {
+      if (node > 0 && node + 1 < nodes)
+        for (long v = 0; v < displaced; ++v) {
           space.displacement_vertices.push_back(static_cast<std::int32_t>(v));
           for (int c = 0; c < 3; ++c)
             space.displacement_values.push_back(core::float_to_half(static_cast<float>(0.01 * (c + 1) * std::cos(t + v))));

@@ -1,5 +1,6 @@
 #include "character_files.hpp"
 
+#include "surfcap/asset/glb_character.hpp"
 #include "surfcap/core/error.hpp"
 
 namespace surfcap::tools {
@@ -19,12 +20,12 @@ asset::Character load_character(const CharacterSource& source) {
       throw core::bad_arguments("--character (or --database and --graph) is required");
     return asset::assemble_character({source.database, source.graph, source.parts, "character"});
   }
-  throw core::bad_arguments("--character: reading .glb characters needs the asset module (not merged yet)");
+  return asset::read_character_glb(source.character);
 }
 
 void write_animation(const std::filesystem::path& path, const core::Mesh& template_mesh,
                      const std::vector<Eigen::MatrixXd>& frames, double fps, const std::string& name) {
-  throw core::internal_error("writing " + path.string() + " needs the asset module (not merged yet)");
+  asset::write_animation_glb(path, template_mesh, frames, fps, name);
 }
 
 }  // namespace surfcap::tools

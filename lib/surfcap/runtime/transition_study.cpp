@@ -1,7 +1,7 @@
 #include "surfcap/runtime/transition_study.hpp"
 
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -12,7 +12,8 @@
 namespace surfcap::runtime {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+/// Process CPU time in seconds (the study runs on one thread; the machine may be shared).
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 /// Frames to play from frame `from` to frame `to` at `step` normalised frames per frame while the
 /// parameters ramp by `ramp` frames; −1 when a one-shot space cannot do it.
@@ -42,10 +43,13 @@ double step_at(const SpaceEvaluator& space, const std::vector<double>& parameter
   return space.frames_per_step(u.data(), fps);
 }
 
-MotionState random_state(const SpaceEvaluator& space, int index, std::mt19937& random) {
+/// A random state: cyclic spaces anywhere in the cycle; one-shot spaces in their first half as a
+/// source (there is still motion to leave from) and their second half as a target.
+MotionState random_state(const SpaceEvaluator& space, int index, bool target, std::mt19937& random) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  MotionState state{index, uniform(random) * (space.cyclic() ? space.frames() : space.frames() - 1),
-                    std::vector<double>(static_cast<std::size_t>(space.dimensions()))};
+  const double r = uniform(random);
+  const double frame = space.cyclic() ? r * space.frames() : (target ? 0.5 + 0.5 * r : 0.5 * r) * (space.frames() - 1);
+  MotionState state{index, frame, std::vector<double>(static_cast<std::size_t>(space.dimensions()))};
   for (int a = 0; a < space.dimensions(); ++a)
     state.parameters[a] = space.parameter_min(a) + uniform(random) * (space.parameter_max(a) - space.parameter_min(a));
   return state;
@@ -118,8 +122,8 @@ core::Json transition_study(const asset::Character& character, const std::string
   std::mt19937 random(options.seed);
   std::vector<std::pair<MotionState, MotionState>> pairs;
   for (int k = 0; k < options.transitions; ++k) {
-    MotionState source = random_state(source_space, a, random);
-    MotionState target = random_state(target_space, b, random);
+    MotionState source = random_state(source_space, a, false, random);
+    MotionState target = random_state(target_space, b, true, random);
     pairs.emplace_back(std::move(source), std::move(target));
   }
   core::Json rows = core::Json::array();
@@ -142,19 +146,19 @@ core::Json transition_study(const asset::Character& character, const std::string
     const TransitionPlanner planner(source_space, target_space, *matrix, planner_at);
     std::vector<TransitionPlan> plans;
     for (const auto& [source, target] : pairs) plans.push_back(planner.plan_cost(source, target));
-    const auto start = Clock::now();
+    const double start = cpu_seconds();
     double sink = 0;
     for (int r = 0; r < options.repeats; ++r)
       for (const auto& [source, target] : pairs) sink += planner.plan_cost(source, target).similarity;
-    const double online = std::chrono::duration<double>(Clock::now() - start).count() /
+    const double online = (cpu_seconds() - start) /
                           std::max(1.0, static_cast<double>(options.repeats) * pairs.size());
     summarise("online depth " + std::to_string(depth) + (sink < 0 ? " " : ""), plans, online, 0.0, 0);
   }
   const TransitionPlanner planner(source_space, target_space, *matrix, planner_options);
   for (int count : options.fixed) {
-    auto start = Clock::now();
+    double start = cpu_seconds();
     const std::vector<FixedTransition> fixed = best_fixed_transitions(planner, count);
-    const double offline = std::chrono::duration<double>(Clock::now() - start).count();
+    const double offline = cpu_seconds() - start;
     std::vector<TransitionPlan> plans;
     int unreachable = 0;
     for (const auto& [source, target] : pairs) {
@@ -163,14 +167,14 @@ core::Json transition_study(const asset::Character& character, const std::string
       if (reachable) plans.push_back(plan);
       else ++unreachable;
     }
-    start = Clock::now();
+    start = cpu_seconds();
     double sink = 0;
     for (int r = 0; r < options.repeats; ++r)
       for (const auto& [source, target] : pairs) {
         bool reachable = false;
         sink += plan_fixed(planner, fixed, source, target, reachable).similarity;
       }
-    const double online = std::chrono::duration<double>(Clock::now() - start).count() /
+    const double online = (cpu_seconds() - start) /
                           std::max(1.0, static_cast<double>(options.repeats) * pairs.size());
     summarise(std::to_string(count) + " precomputed" + (sink < 0 ? " " : ""), plans, online, offline, unreachable);
   }
