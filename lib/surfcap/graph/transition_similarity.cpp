@@ -105,12 +105,19 @@ TransitionSimilarity transition_similarity(const blend::StoredSpace& from, const
   TransitionSimilarity result;
   result.rows = a.rows();
   result.cols = b.rows();
-  // Gram form ‖a − b‖² = ‖a‖² + ‖b‖² − 2 a·b; each row is its own slot, so threads do not change it.
+  // Gram form ‖a − b‖² = ‖a‖² + ‖b‖² − 2 a·b, the Gram matrix A·Bᵀ accumulated over fixed slices of
+  // the features: each slice is one GEMM whose k-extent is below Eigen's blocking, so every entry
+  // is summed in the same order whatever the thread count (byte-identical outputs).
+  constexpr long kSlice = 256;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(result.rows, result.cols);
+  for (long k = 0; k < a.cols(); k += kSlice) {
+    const long width = std::min(kSlice, a.cols() - k);
+    gram.noalias() += a.middleCols(k, width) * b.middleCols(k, width).transpose();
+  }
   Eigen::MatrixXd distance(result.rows, result.cols);
-  core::parallel_for(result.rows, options.threads, [&](long i) {
+  for (long i = 0; i < result.rows; ++i)
     for (long j = 0; j < result.cols; ++j)
-      distance(i, j) = std::max(0.0, a_norms(i) + b_norms(j) - 2.0 * a.row(i).dot(b.row(j))) * inverse_vertices;
-  });
+      distance(i, j) = std::max(0.0, a_norms(i) + b_norms(j) - 2.0 * gram(i, j)) * inverse_vertices;
   result.max_distance = distance.maxCoeff();
   const double scale = result.max_distance > 0 ? 1.0 / result.max_distance : 0.0;
   result.similarity.resize(static_cast<std::size_t>(result.rows * result.cols));
