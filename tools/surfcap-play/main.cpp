@@ -30,6 +30,7 @@ struct PlayArguments {
   int study = 0;
   std::vector<std::string> study_edges;
   int study_repeats = 100;
+  double study_latency_weight = 5.0;
 };
 
 core::Json transition_json(const runtime::TransitionRecord& record) {
@@ -58,6 +59,7 @@ void run_study(const asset::Character& character, const PlayArguments& arguments
     for (const auto& transition : character.transitions) edges.emplace_back(transition.from, transition.to);
   runtime::PlannerOptions planner;
   planner.fps = character.fps;
+  planner.latency_weight = arguments.study_latency_weight;
   runtime::StudyOptions options;
   options.transitions = arguments.study;
   options.repeats = arguments.study_repeats;
@@ -166,6 +168,8 @@ int main(int argc, char** argv) {
   cli.add_option("--study-edge", arguments.study_edges, "Edges FROM:TO of the study (repeatable); default all")
       ->take_all();
   cli.add_option("--study-repeats", arguments.study_repeats, "Timing repetitions of the study")->capture_default_str();
+  cli.add_option("--study-latency-weight", arguments.study_latency_weight, "λ of E_S + λE_L in the study")
+      ->capture_default_str();
   return app.run(argc, argv, [&] {
     if (arguments.study <= 0 && arguments.script.empty()) throw core::bad_arguments("--script is required (or --study N)");
     if (arguments.check_exact < 0) throw core::bad_arguments("--check-exact must be ≥ 0");
