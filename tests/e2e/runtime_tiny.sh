@@ -98,6 +98,16 @@ echo '{"format": "surfcap.control/1", "duration_s": 1, "start": {"space": "jump"
 "$tools/surfcap-precompute" transitions --database "$database" --graph "$graph_config" --output "$work/out" \
   --edge jump:nowhere
 [[ $? -eq 2 ]] || { echo "undeclared --edge must exit 2"; exit 1; }
+python3 - "$work/out/graph.json" "$work/out/bad_graph.json" <<'PY'
+import json, sys
+graph = json.load(open(sys.argv[1]))
+graph["spaces"][0]["sequences"][0]["name"] = "nope"
+json.dump(graph, open(sys.argv[2], "w"))
+PY
+"$tools/surfcap-play" --database "$database" --graph "$work/out/bad_graph.json" \
+  --script "$source/configs/control/tiny_timeline.json" --output "$work/bad" 2> "$work/err"
+[[ $? -eq 3 ]] || { echo "a space over a missing sequence must exit 3"; exit 1; }
+grep -q "bad_graph.json" "$work/err" || { echo "the error must name graph.json"; cat "$work/err"; exit 1; }
 rm "$work/out/transitions/jump__locomotion.npy"
 "$tools/surfcap-play" --database "$database" --graph "$work/out/graph.json" \
   --script "$source/configs/control/tiny_timeline.json" --output "$work/bad" 2> "$work/err"
