@@ -49,15 +49,10 @@ PY
   files+=("$work/character.glb")
   play=$build/tools/surfcap-play
   if [[ -x $play ]]; then
-    cat > "$work/control.json" <<'JSON'
-{"format": "surfcap.control/1", "commands": [{"space": "locomotion", "parameters": [1.0], "seconds": 1.0}]}
-JSON
-    if "$play" --character "$work/character.glb" --script "$work/control.json" --output "$work/play" > "$work/play.log" 2>&1; then
+    if "$play" --threads 2 --character "$work/character.glb" --script "$source/configs/control/tiny_timeline.json" --output "$work/play" > "$work/play.log" 2>&1; then
       files+=("$work/play/animation.glb")
     else
-      echo "surfcap-play failed on a guessed control script (see below); validating the writer's seed animation instead"
-      tail -3 "$work/play.log"
-      files+=("$source/tests/fuzz/corpus/glb/animation.glb")
+      echo "surfcap-play failed:"; tail -5 "$work/play.log"; exit 1
     fi
   else
     files+=("$source/tests/fuzz/corpus/glb/animation.glb")
