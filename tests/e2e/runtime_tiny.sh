@@ -50,6 +50,14 @@ data = open(out + "/transitions/locomotion__jump.npy", "rb").read()
 header_length = struct.unpack("<H", data[8:10])[0]
 values = struct.unpack("<%df" % (rows * cols), data[10 + header_length:])
 assert min(values) >= 0 and max(values) <= 1 and abs(min(values)) < 1e-6, (min(values), max(values))
+# Shape + motion: walking is closer to the jump's ground phases (take-off, landing) than to its apex.
+T = spaces["jump"]["frames"]
+per_frame = [0.0] * T
+for k, value in enumerate(values):
+    per_frame[(k % cols) % T] += value
+ground = (sum(per_frame[:3]) + sum(per_frame[-3:])) / 6
+apex = sum(per_frame[T // 2 - 1:T // 2 + 2]) / 3
+assert ground > apex * 1.2, (ground, apex)
 PY
 
 # Export (surfcap-export, from the asset module) when built; else play from the build outputs.

@@ -152,10 +152,10 @@ void Controller::follow_waypoints() {
     return;
   }
   // Steer: turn the heading towards the waypoint at no more than turn_rate.
-  std::vector<double> u(current_.state.parameters.size());
-  space.weight_coordinates(current_.state.parameters.data(), u.data());
+  double u[3];
+  space.weight_coordinates(current_.state.parameters.data(), u);
   const double frame = current_.state.frame;
-  const Eigen::Vector3d ahead = space.root_step(frame, frame + space.frames() / 2.0, u.data());
+  const Eigen::Vector3d ahead = space.root_step(frame, frame + space.frames() / 2.0, u);
   if (ahead.head<2>().norm() < 1e-6) return;
   const Eigen::Vector2d heading = rotate_ground(ahead.head<2>(), current_.heading);
   const double error = std::remainder(ground_angle(to) - ground_angle(heading), 2 * M_PI);
@@ -166,19 +166,19 @@ void Controller::follow_waypoints() {
 void Controller::advance() {
   MotionState next = current_.state;
   const SpaceEvaluator* space = evaluators_[next.space].get();
-  std::vector<double> u(8);
+  double u[3];
   Eigen::Vector3d delta;
   if (path_next_ < path_.size()) {
     next = path_[path_next_++];
     space = evaluators_[next.space].get();
-    space->weight_coordinates(next.parameters.data(), u.data());
+    space->weight_coordinates(next.parameters.data(), u);
     double previous = current_.state.frame;
     if (next.space != current_.state.space) {
       // The switch itself moves the root as the target space moves into its first path frame.
-      previous = next.frame - space->frames_per_step(u.data(), fps_);
+      previous = next.frame - space->frames_per_step(u, fps_);
       if (!space->cyclic()) previous = std::max(0.0, previous);
     }
-    delta = space->root_step(previous, next.frame, u.data());
+    delta = space->root_step(previous, next.frame, u);
     current_.in_transition = true;
     parameter_target_ = next.parameters;
   } else {
@@ -188,10 +188,10 @@ void Controller::advance() {
                                                               space->parameter_min(static_cast<int>(a)));
       next.parameters[a] += std::clamp(parameter_target_[a] - next.parameters[a], -limit, limit);
     }
-    space->weight_coordinates(next.parameters.data(), u.data());
-    double frame = next.frame + space->frames_per_step(u.data(), fps_);
+    space->weight_coordinates(next.parameters.data(), u);
+    double frame = next.frame + space->frames_per_step(u, fps_);
     if (!space->cyclic()) frame = std::min(frame, space->frames() - 1.0);
-    delta = space->root_step(next.frame, frame, u.data());
+    delta = space->root_step(next.frame, frame, u);
     next.frame = space->wrap(frame);
   }
   const Eigen::Vector2d moved = rotate_ground(delta.head<2>(), current_.heading);
@@ -208,8 +208,7 @@ void Controller::advance() {
   }
   // A one-shot space returns where it was entered from, planned while the trellis still fits.
   if (path_.empty() && !space->cyclic() && return_space_ >= 0) {
-    std::vector<double> w(u.begin(), u.begin() + space->dimensions());
-    const double step = space->frames_per_step(w.data(), fps_);
+    const double step = space->frames_per_step(u, fps_);
     if (next.frame + script_->planner.depth * step >= space->frames() - 1 - 1e-9) {
       const int back = return_space_;
       return_space_ = -1;
