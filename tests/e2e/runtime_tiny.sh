@@ -91,6 +91,12 @@ print("runtime_tiny: %d frames, transitions %s, max error vs exact %.2f mm (ε %
       % (report["frames"], spaces, check["max_error_mm"], check["tolerance_mm"], 1e6 * report["evaluation_cpu_per_frame_s"]))
 PY
 
+# Same inputs, other thread count: the same animation and contact sheet, byte for byte.
+"$tools/surfcap-play" --threads 1 "${character[@]}" --script "$source/configs/control/tiny_timeline.json" \
+  --output "$work/play1" >> "$work/log" 2>&1
+cmp "$work/play/animation.glb" "$work/play1/animation.glb"
+cmp "$work/play/contact_sheet.png" "$work/play1/contact_sheet.png"
+
 # Bad input and bad arguments: the documented exit codes, the file named.
 set +e
 echo '{"format": "surfcap.control/1", "duration_s": 1, "start": {"space": "swim"}}' > "$work/bad_space.json"
