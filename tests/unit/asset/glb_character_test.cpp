@@ -2,6 +2,9 @@
 // glTF content (what viewers play) and the reader's refusals (exit 3 naming the file).
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/asset/glb_container.hpp"
 #include "surfcap/core/atomic_file.hpp"
@@ -255,6 +258,12 @@ TEST(CharacterGlb, RefusesTruncatedCorruptAndNewerFiles) {
   json = json_of(glb);
   json["accessors"][0]["count"] = 1 << 30;
   write_and_read(with_json(glb, json), "accessor beyond its bufferView");
+  std::string nan = glb;  // the first float of the BIN chunk (x of template vertex 0) → NaN
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const float not_a_number = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(nan.data() + 20 + json_length + 8, &not_a_number, 4);
+  write_and_read(nan, "NaN position");
   json = json_of(glb);
   json["buffers"][0]["uri"] = "/etc/passwd";
   write_and_read(with_json(glb, json), "external buffer");
