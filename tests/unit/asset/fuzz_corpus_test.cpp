@@ -1,5 +1,9 @@
 // Every input of the .glb fuzz seed corpus (tests/fuzz/corpus/glb: valid seeds and the inputs
 // that once crashed the reader) must either load or fail with a core::Error (exit 3 or 4).
+// The seeds: character.glb = write_character_glb of testing::synthetic_character(make_sphere(3, 5,
+// 0.5)) with 2 frames and a 2×2 PNG texture; character_float_colours.glb = the same without parts,
+// texture, UVs, the 2-D space and transitions, colours 0.3 (float COLOR_0); animation.glb =
+// write_animation_glb of 3 translated frames (no extension: refused as a character).
 #include <gtest/gtest.h>
 
 #include <algorithm>
