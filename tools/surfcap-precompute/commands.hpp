@@ -16,5 +16,7 @@ Command add_spaces_command(core::ToolApp& app);
 Command add_graph_command(core::ToolApp& app);
 /// `compare`: casas2011 Table 1 for two poses (linear / hybrid 1 / hybrid 3 vs exact).
 Command add_compare_command(core::ToolApp& app);
+/// `transitions`: similarity matrices between connected spaces (casas2013 §3.2).
+Command add_transitions_command(core::ToolApp& app);
 
 }  // namespace surfcap::tools

@@ -1,4 +1,4 @@
-// surfcap-precompute: motion spaces (and, later, transitions) from an aligned database.
+// surfcap-precompute: motion spaces and transitions from an aligned database.
 #include <vector>
 
 #include "commands.hpp"
@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   commands.push_back(surfcap::tools::add_spaces_command(app));
   commands.push_back(surfcap::tools::add_graph_command(app));
   commands.push_back(surfcap::tools::add_compare_command(app));
+  commands.push_back(surfcap::tools::add_transitions_command(app));
   return app.run(argc, argv, [&] {
     for (const auto& [command, run] : commands)
       if (command->parsed()) run();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "surfcap/blend/parameter_map.hpp"
+#include "surfcap/blend/stored_space.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/json_document.hpp"
 #include "surfcap/core/mesh.hpp"
@@ -18,38 +19,13 @@
 namespace surfcap::asset {
 
 /// One source sequence of a motion space (corner order of docs/blend.md).
-struct SpaceSource {
-  std::string sequence;
-  int first = 0;          ///< first frame of the configured range in the database sequence
-  int frames = 0;         ///< frames in that range
-  double duration_s = 0;  ///< (frames − 1) / fps
-};
+using SpaceSource = blend::StoredSource;
 
-/// A parametric motion space as surfcap-precompute spaces wrote it (docs/blend.md).
-struct CharacterSpace {
-  std::string name;
-  bool cyclic = false;
-  int frames = 0;      ///< T normalised frames
-  int dimensions = 0;  ///< d; 2^d sources
-  std::vector<SpaceSource> sources;
-  std::vector<std::string> parameter_names;     ///< d names, or empty
-  std::vector<std::string> parameter_measures;  ///< d measures (root_speed, ...), or empty
-  std::vector<std::vector<double>> breakpoints;       ///< [d][*] sorted, incl. 0 and 1
-  std::vector<std::vector<double>> node_coordinates;  ///< [R][d] grid nodes, axis 0 fastest, corners included
-  std::vector<float> references;   ///< [N][T][V][3] time-warped centred source positions (metres)
-  std::vector<float> root_motion;  ///< [N][T][4] x, y, z, heading
-  std::vector<float> time_warp;    ///< [N][T] fractional source frame within the range
-  std::vector<std::int64_t> displacement_offsets;   ///< [R·T + 1] CSR offsets, row = node·T + t
-  std::vector<std::int32_t> displacement_vertices;  ///< [K]
-  std::vector<std::uint16_t> displacement_values;   ///< [K][3] IEEE 754 half-precision bits (metres)
-  double displacement_threshold_m = 0;
-  std::optional<blend::ParameterMap> parameter_map;
-  double tolerance_mm = 0;
-  double max_error_mm = 0;
-
-  int source_count() const { return 1 << dimensions; }
-  long node_count() const { return static_cast<long>(node_coordinates.size()); }
-};
+/// A parametric motion space as surfcap-precompute spaces wrote it (docs/blend.md): the fields
+/// name, cyclic, frames, dimensions, sources, parameter_names/measures, breakpoints,
+/// node_coordinates, references, root_motion, time_warp, displacement_{offsets,vertices,values,
+/// threshold_m}, parameter_map, tolerance_mm, max_error_mm (blend/stored_space.hpp reads them).
+using CharacterSpace = blend::StoredSpace;
 
 /// Transition similarity between two connected spaces (casas2013 §3.2): s = 1 − d / max d over
 /// every frame of every grid node (reference) of `from` × every frame of every node of `to`.
@@ -59,11 +35,14 @@ struct CharacterTransition {
   long rows = 0;  ///< R_from · T_from, row = node · T_from + t
   long cols = 0;  ///< R_to · T_to
   std::vector<float> similarity;  ///< row-major [rows][cols], in [0, 1]
+
+  float at(long row, long col) const { return similarity[static_cast<std::size_t>(row * cols + col)]; }
 };
 
 struct Character {
   std::string name;
   core::Mesh template_mesh;  ///< the one topology, with its colours / UVs
+  std::vector<std::uint8_t> texture_png;  ///< optional base-colour texture (PNG bytes) mapped by template_mesh.uvs
   double fps = 25.0;
   std::string units = "m";
   std::vector<core::AlignedSequence> sequences;  ///< captured sequences (glTF morph-target animations)
@@ -74,6 +53,8 @@ struct Character {
 
   long vertex_count() const { return template_mesh.V.rows(); }
   int space_index(const std::string& space) const;  ///< -1 if absent
+  /// The transition from → to, or nullptr.
+  const CharacterTransition* find_transition(const std::string& from, const std::string& to) const;
 };
 
 /// The build outputs a character is assembled from.

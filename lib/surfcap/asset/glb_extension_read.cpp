@@ -1,0 +1,210 @@
+// Reading the SURFCAP_motion_graph extension (docs/formats.md): every accessor's type and count
+// is checked against the shape its metadata implies, every index against its range.
+#include <limits>
+
+#include "surfcap/asset/glb_extension.hpp"
+
+namespace surfcap::asset::detail {
+namespace {
+
+/// Accessor index under `key`, -1 when absent (an empty array).
+int optional_accessor(const core::Json& object, const std::string& key, const std::filesystem::path& source) {
+  return object.contains(key) ? core::get_field<int>(object, key, source) : -1;
+}
+
+template <class T>
+std::vector<T> read_optional(const GlbAccessors& accessors, const core::Json& object, const std::string& key,
+                             int component_type, int type, long count, const std::string& what) {
+  const int index = optional_accessor(object, key, accessors.source());
+  if (index < 0) {
+    if (count > 0) throw core::bad_input(accessors.source(), what + ": missing " + key);
+    return {};
+  }
+  return accessors.read<T>(index, component_type, type, count, what + " " + key);
+}
+
+/// n·m, or bad_input when the product is not a plausible element count.
+long shape(long n, long m, const GlbAccessors& accessors, const std::string& what) {
+  if (n < 0 || m < 0 || (m > 0 && n > std::numeric_limits<std::uint32_t>::max() / m))
+    throw core::bad_input(accessors.source(), what + ": impossible array shape");
+  return n * m;
+}
+
+std::vector<int> checked_indices(const std::vector<std::uint32_t>& values, long limit, const GlbAccessors& accessors,
+                                 const std::string& what) {
+  std::vector<int> out(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (values[i] >= static_cast<std::uint64_t>(limit)) throw core::bad_input(accessors.source(), what + ": index out of range");
+    out[i] = static_cast<int>(values[i]);
+  }
+  return out;
+}
+
+blend::ParameterMap parameter_map_from(const core::Json& json, int dimensions, const std::filesystem::path& source) {
+  blend::ParameterMap map;
+  map.degree = core::get_field<int>(json, "degree", source);
+  map.parameters = core::get_field<std::vector<std::string>>(json, "parameters", source);
+  map.monomials = core::get_field<std::vector<std::vector<int>>>(json, "monomials", source);
+  const auto coefficients = core::get_field<std::vector<std::vector<double>>>(json, "coefficients", source);
+  const auto range = core::get_field<std::vector<std::vector<double>>>(json, "parameterRange", source);
+  map.residual_rms = core::get_field<double>(json, "residualRms", source);
+  map.residual_max = core::get_field<double>(json, "residualMax", source);
+  const long terms = static_cast<long>(map.monomials.size());
+  if (static_cast<int>(coefficients.size()) != dimensions || static_cast<int>(range.size()) != dimensions ||
+      static_cast<int>(map.parameters.size()) != dimensions)
+    throw core::bad_input(source, "parameter map: one row per weight-space axis expected");
+  map.coefficients.resize(dimensions, terms);
+  map.parameter_range.resize(dimensions, 2);
+  for (int a = 0; a < dimensions; ++a) {
+    if (static_cast<long>(coefficients[a].size()) != terms || range[a].size() != 2)
+      throw core::bad_input(source, "parameter map: coefficients/ranges of the wrong size");
+    for (long k = 0; k < terms; ++k) map.coefficients(a, k) = coefficients[a][k];
+    map.parameter_range.row(a) << range[a][0], range[a][1];
+  }
+  for (const auto& m : map.monomials)
+    if (static_cast<int>(m.size()) != dimensions) throw core::bad_input(source, "parameter map: monomial of the wrong size");
+  return map;
+}
+
+void read_displacements(const core::Json& json, const GlbAccessors& accessors, long vertices, CharacterSpace& space) {
+  const auto& source = accessors.source();
+  const std::string what = "space '" + space.name + "' displacements";
+  const long rows = shape(space.node_count(), space.frames, accessors, what);
+  const auto offsets = accessors.read<std::uint32_t>(core::get_field<int>(json, "offsets", source), u32,
+                                                     TINYGLTF_TYPE_SCALAR, rows + 1, what + " offsets");
+  for (long r = 0; r < rows; ++r)
+    if (offsets[r] > offsets[r + 1]) throw core::bad_input(source, what + ": offsets decrease at row " + std::to_string(r));
+  if (offsets.front() != 0) throw core::bad_input(source, what + ": offsets must start at 0");
+  const long stored = offsets.back();
+  space.displacement_offsets.assign(offsets.begin(), offsets.end());
+  const auto stored_vertices = read_optional<std::uint32_t>(accessors, json, "vertices", u32, TINYGLTF_TYPE_SCALAR, stored, what);
+  const auto indices = checked_indices(stored_vertices, vertices, accessors, what);
+  space.displacement_vertices.assign(indices.begin(), indices.end());
+  space.displacement_values = read_optional<std::uint16_t>(accessors, json, "values", u16, TINYGLTF_TYPE_VEC3, stored, what);
+  space.displacement_threshold_m = core::get_field<double>(json, "thresholdM", source);
+}
+
+CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors, const Character& character) {
+  const auto& source = accessors.source();
+  CharacterSpace space;
+  space.name = core::get_field<std::string>(json, "name", source);
+  const std::string what = "space '" + space.name + "'";
+  space.cyclic = core::get_field<bool>(json, "cyclic", source);
+  space.frames = core::get_field<int>(json, "frames", source);
+  space.dimensions = core::get_field<int>(json, "dimensions", source);
+  if (space.dimensions < 1 || space.dimensions > 3 || space.frames < 1)
+    throw core::bad_input(source, what + ": dimensions must be 1..3 and frames positive");
+  for (const core::Json& s : core::get_field<core::Json>(json, "sources", source))
+    space.sources.push_back({core::get_field<std::string>(s, "sequence", source), core::get_field<int>(s, "first", source),
+                             core::get_field<int>(s, "frames", source), core::get_field<double>(s, "durationS", source)});
+  if (static_cast<int>(space.sources.size()) != space.source_count())
+    throw core::bad_input(source, what + ": 2^dimensions sources expected");
+  space.parameter_names = json.value("parameterNames", std::vector<std::string>{});
+  space.parameter_measures = json.value("parameterMeasures", std::vector<std::string>{});
+  space.breakpoints = core::get_field<std::vector<std::vector<double>>>(json, "breakpoints", source);
+  space.node_coordinates = core::get_field<std::vector<std::vector<double>>>(json, "nodeCoordinates", source);
+  if (space.node_count() < space.source_count()) throw core::bad_input(source, what + ": fewer nodes than corners");
+  for (const auto& u : space.node_coordinates)
+    if (static_cast<int>(u.size()) != space.dimensions) throw core::bad_input(source, what + ": node of the wrong dimension");
+  const long n = space.source_count(), nt = shape(n, space.frames, accessors, what);
+  if (const int weights = optional_accessor(json, "nodeWeights", source); weights >= 0)
+    accessors.read<float>(weights, f32, TINYGLTF_TYPE_SCALAR, shape(space.node_count(), n, accessors, what), what + " nodeWeights");
+  space.references = accessors.read<float>(core::get_field<int>(json, "references", source), f32, TINYGLTF_TYPE_VEC3,
+                                           shape(nt, character.vertex_count(), accessors, what), what + " references");
+  space.root_motion = accessors.read<float>(core::get_field<int>(json, "rootMotion", source), f32, TINYGLTF_TYPE_VEC4, nt,
+                                            what + " rootMotion");
+  space.time_warp = accessors.read<float>(core::get_field<int>(json, "timeWarp", source), f32, TINYGLTF_TYPE_SCALAR, nt,
+                                          what + " timeWarp");
+  read_displacements(core::get_field<core::Json>(json, "displacements", source), accessors, character.vertex_count(), space);
+  if (json.contains("parameterMap")) space.parameter_map = parameter_map_from(json["parameterMap"], space.dimensions, source);
+  space.tolerance_mm = core::get_field<double>(json, "toleranceMm", source);
+  space.max_error_mm = core::get_field<double>(json, "maxErrorMm", source);
+  return space;
+}
+
+int space_named(const Character& character, const std::string& name) {
+  for (std::size_t i = 0; i < character.spaces.size(); ++i)
+    if (character.spaces[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace
+
+void read_spaces(const core::Json& extension, const GlbAccessors& accessors, Character& character) {
+  if (!extension.contains("spaces")) return;
+  for (const core::Json& json : extension["spaces"]) character.spaces.push_back(read_space(json, accessors, character));
+}
+
+void read_transitions(const core::Json& extension, const GlbAccessors& accessors, Character& character) {
+  if (!extension.contains("transitions")) return;
+  const auto& source = accessors.source();
+  for (const core::Json& json : extension["transitions"]) {
+    CharacterTransition t;
+    t.from = core::get_field<std::string>(json, "from", source);
+    t.to = core::get_field<std::string>(json, "to", source);
+    t.rows = core::get_field<long>(json, "rows", source);
+    t.cols = core::get_field<long>(json, "cols", source);
+    const std::string what = "transition " + t.from + " -> " + t.to;
+    const int from = space_named(character, t.from), to = space_named(character, t.to);
+    if (from < 0 || to < 0) throw core::bad_input(source, what + ": unknown space");
+    const auto& a = character.spaces[from];
+    const auto& b = character.spaces[to];
+    if (t.rows != a.node_count() * a.frames || t.cols != b.node_count() * b.frames)
+      throw core::bad_input(source, what + ": similarity must be (R_from·T_from) × (R_to·T_to)");
+    t.similarity = read_optional<float>(accessors, json, "similarity", f32, TINYGLTF_TYPE_SCALAR,
+                                        shape(t.rows, t.cols, accessors, what), what);
+    character.transitions.push_back(std::move(t));
+  }
+}
+
+void read_parts(const core::Json& extension, const GlbAccessors& accessors, Character& character) {
+  if (!extension.contains("parts")) return;
+  const auto& source = accessors.source();
+  const core::Json& json = extension["parts"];
+  const long vertices = character.vertex_count();
+  learn::LearntModel model;
+  model.template_mesh = character.template_mesh;
+  if (const int rest = optional_accessor(json, "restPositions", source); rest >= 0) {
+    const auto values = accessors.read<float>(rest, f32, TINYGLTF_TYPE_VEC3, vertices, "part rest positions");
+    for (long i = 0; i < 3 * vertices; ++i) model.template_mesh.V(i / 3, i % 3) = values[i];
+  }
+  for (const core::Json& p : core::get_field<core::Json>(json, "parts", source)) {
+    learn::PartModel part;
+    part.part.name = core::get_field<std::string>(p, "name", source);
+    const std::string what = "part '" + part.part.name + "'";
+    part.part.parent = core::get_field<int>(p, "parent", source);
+    if (part.part.parent < -1 || part.part.parent >= static_cast<int>(model.parts.size()) ||
+        (part.part.parent < 0) != model.parts.empty())
+      throw core::bad_input(source, what + ": parents must come first and only the first part is the root");
+    const auto indices = accessors.read<std::uint32_t>(core::get_field<int>(p, "vertices", source), u32,
+                                                       TINYGLTF_TYPE_SCALAR, -1, what + " vertices");
+    part.part.vertices = checked_indices(indices, vertices, accessors, what);
+    part.part.frontier = checked_indices(read_optional<std::uint32_t>(accessors, p, "frontier", u32, TINYGLTF_TYPE_SCALAR, -1, what),
+                                         vertices, accessors, what);
+    const long values = 3 * static_cast<long>(part.part.vertices.size());
+    const long kept = core::get_field<long>(p, "kept", source);
+    const auto mean = accessors.read<float>(core::get_field<int>(p, "mean", source), f32, TINYGLTF_TYPE_SCALAR, values, what + " mean");
+    part.mean = Eigen::Map<const Eigen::VectorXf>(mean.data(), values).cast<double>();
+    const auto basis = read_optional<float>(accessors, p, "basis", f32, TINYGLTF_TYPE_SCALAR, shape(values, kept, accessors, what), what);
+    part.basis.resize(values, kept);
+    for (long r = 0; r < values; ++r)
+      for (long c = 0; c < kept; ++c) part.basis(r, c) = basis[r * kept + c];
+    part.energy = core::get_field<double>(p, "energy", source);
+    const auto singular = p.value("singularValues", std::vector<double>{});
+    part.singular_values = Eigen::Map<const Eigen::VectorXd>(singular.data(), static_cast<long>(singular.size()));
+    model.parts.push_back(std::move(part));
+  }
+  if (json.contains("regions"))
+    for (const core::Json& r : json["regions"]) {
+      const std::string name = core::get_field<std::string>(r, "name", source);
+      model.regions[name] = checked_indices(
+          read_optional<std::uint32_t>(accessors, r, "vertices", u32, TINYGLTF_TYPE_SCALAR, -1, "region " + name),
+          vertices, accessors, "region " + name);
+    }
+  if (json.contains("examples"))
+    for (const core::Json& e : json["examples"])
+      model.examples.emplace_back(core::get_field<std::string>(e, "sequence", source), core::get_field<int>(e, "frame", source));
+  character.parts = std::move(model);
+}
+
+}  // namespace surfcap::asset::detail

@@ -1,0 +1,128 @@
+// character.glb and animation.glb: standard glTF content (glb_morph) + the SURFCAP_motion_graph
+// extension (glb_extension_write), one buffer, written atomically.
+#include <chrono>
+
+#include "surfcap/asset/glb_character.hpp"
+#include "surfcap/asset/glb_extension.hpp"
+#include "surfcap/asset/glb_morph.hpp"
+#include "surfcap/core/atomic_file.hpp"
+#include "surfcap/core/version.hpp"
+
+namespace surfcap::asset {
+namespace {
+using namespace detail;
+
+std::string generator_of(const GlbWriteOptions& options) {
+  return options.generator.empty() ? "surfcap " + std::string(core::version()) : options.generator;
+}
+
+void check_template(const core::Mesh& mesh) {
+  if (mesh.vertex_count() == 0 || mesh.face_count() == 0 || mesh.V.cols() != 3 || mesh.F.cols() != 3)
+    throw core::internal_error("cannot export an empty template mesh");
+  if (mesh.F.minCoeff() < 0 || mesh.F.maxCoeff() >= mesh.vertex_count())
+    throw core::internal_error("the template mesh has face indices out of range");
+}
+
+/// Every sequence as morph targets + an animation; returns the extension's "sequences".
+core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& character) {
+  const std::vector<float> base = row_major_floats(character.template_mesh.V);
+  std::vector<std::string> names;
+  std::vector<int> first_targets;
+  core::Json sequences = core::Json::array();
+  for (const core::AlignedSequence& sequence : character.sequences) {
+    for (const Eigen::MatrixXd& frame : sequence.frames)
+      if (frame.rows() != character.vertex_count() || frame.cols() != 3)
+        throw core::internal_error("sequence '" + sequence.name + "' has frames of another vertex count than the template");
+    if (sequence.root_motion.size() != sequence.frames.size())
+      throw core::internal_error("sequence '" + sequence.name + "' needs one root motion per frame");
+    TargetCorrections corrections;
+    first_targets.push_back(add_morph_targets(builder, mesh, base, sequence.frames, sequence.name + "/", names, &corrections));
+    core::Json entry = {{"name", sequence.name}, {"frames", sequence.frame_count()}, {"firstTarget", first_targets.back()}};
+    std::vector<float> root;
+    for (const core::RootMotion& r : sequence.root_motion)
+      root.insert(root.end(), {float(r.x), float(r.y), float(r.z), float(r.heading)});
+    if (const int accessor = builder.add_floats(root, TINYGLTF_TYPE_VEC4, "sequences"); accessor >= 0)
+      entry["rootMotion"] = accessor;
+    if (!corrections.indices.empty())
+      entry["corrections"] = {{"indices", builder.add_u32(corrections.indices, "sequences")},
+                              {"values", builder.add_floats(corrections.values, TINYGLTF_TYPE_SCALAR, "sequences")}};
+    sequences.push_back(entry);
+  }
+  finish_morph_targets(builder, mesh, names);
+  for (std::size_t s = 0; s < character.sequences.size(); ++s) {
+    const auto& sequence = character.sequences[s];
+    const int animation = add_morph_animation(builder, first_targets[s], sequence.frame_count(),
+                                              static_cast<int>(names.size()), character.fps, &sequence.root_motion,
+                                              sequence.name);
+    if (animation >= 0) sequences[s]["animation"] = animation;
+  }
+  return sequences;
+}
+
+core::Json extension_json(GlbBuilder& builder, int mesh, const Character& character) {
+  core::Json extension = {{"version", motion_graph_extension_version}, {"name", character.name},
+                          {"fps", character.fps}, {"units", character.units}, {"mesh", mesh}, {"node", 0},
+                          {"provenance", character.provenance}};
+  extension["sequences"] = add_sequences(builder, mesh, character);
+  if (character.template_mesh.has_uvs())  // exact, in the mesh files' convention (v up)
+    extension["template"] = {{"uvs", builder.add_floats(row_major_floats(character.template_mesh.uvs),
+                                                        TINYGLTF_TYPE_VEC2, "template")}};
+  extension["spaces"] = spaces_json(builder, character);
+  extension["transitions"] = transitions_json(builder, character);
+  if (character.parts) extension["parts"] = parts_json(builder, character);
+  return extension;
+}
+
+GlbSummary summarise(const GlbBuilder& builder, const std::string& glb) {
+  GlbSummary summary;
+  summary.file_bytes = glb.size();
+  summary.buffer_bytes = builder.bytes_by_kind();
+  summary.json_bytes = static_cast<std::uint8_t>(glb[12]) | static_cast<std::uint8_t>(glb[13]) << 8 |
+                       static_cast<std::uint8_t>(glb[14]) << 16 | static_cast<std::size_t>(static_cast<std::uint8_t>(glb[15])) << 24;
+  summary.accessors = static_cast<long>(builder.model.accessors.size());
+  summary.animations = static_cast<long>(builder.model.animations.size());
+  summary.morph_targets = static_cast<long>(builder.model.meshes.at(0).primitives.at(0).targets.size());
+  return summary;
+}
+
+}  // namespace
+
+std::string character_glb_bytes(const Character& character, const GlbWriteOptions& options, GlbSummary* summary) {
+  check_template(character.template_mesh);
+  if (!(character.fps > 0)) throw core::internal_error("cannot export a character with fps " + std::to_string(character.fps));
+  GlbBuilder builder(generator_of(options));
+  const int mesh = add_template_mesh(builder, character.template_mesh, character.texture_png, character.name);
+  const core::Json extension = extension_json(builder, mesh, character);
+  std::string glb = builder.finish({{motion_graph_extension, extension}});
+  if (summary) *summary = summarise(builder, glb);
+  return glb;
+}
+
+GlbSummary write_character_glb(const std::filesystem::path& path, const Character& character,
+                               const GlbWriteOptions& options) {
+  GlbSummary summary;
+  const std::string glb = character_glb_bytes(character, options, &summary);
+  core::write_file_atomically(path, glb);
+  return summary;
+}
+
+GlbSummary write_animation_glb(const std::filesystem::path& path, const core::Mesh& template_mesh,
+                               const std::vector<Eigen::MatrixXd>& world_frames, double fps, const std::string& name) {
+  check_template(template_mesh);
+  if (!(fps > 0)) throw core::internal_error("an animation needs fps > 0");
+  for (const Eigen::MatrixXd& frame : world_frames)
+    if (frame.rows() != template_mesh.vertex_count() || frame.cols() != 3)
+      throw core::internal_error("animation '" + name + "' has frames of another vertex count than the template");
+  GlbBuilder builder(generator_of({}));
+  const int mesh = add_template_mesh(builder, template_mesh, {}, name);
+  std::vector<std::string> names;
+  const int first = add_morph_targets(builder, mesh, row_major_floats(template_mesh.V), world_frames, name + "/", names, nullptr);
+  finish_morph_targets(builder, mesh, names);
+  add_morph_animation(builder, first, static_cast<int>(world_frames.size()), static_cast<int>(names.size()), fps,
+                      nullptr, name);
+  const std::string glb = builder.finish(core::Json::object());
+  core::write_file_atomically(path, glb);
+  return summarise(builder, glb);
+}
+
+}  // namespace surfcap::asset

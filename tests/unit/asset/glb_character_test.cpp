@@ -1,0 +1,251 @@
+// character.glb round trip (bit-exact arrays, same bytes for the same character), its standard
+// glTF content (what viewers play) and the reader's refusals (exit 3 naming the file).
+#include <gtest/gtest.h>
+
+#include "surfcap/asset/glb_character.hpp"
+#include "surfcap/asset/glb_container.hpp"
+#include "surfcap/core/atomic_file.hpp"
+#include "surfcap/core/error.hpp"
+#include "surfcap/render/png.hpp"
+#include "synthetic_character.hpp"
+#include "test_support.hpp"
+
+namespace surfcap {
+namespace {
+
+asset::Character test_character() {
+  asset::Character c = testing::synthetic_character(testing::make_sphere(8, 12, 0.5));
+  // A template coordinate and a frame coordinate whose float32 difference loses bits
+  // (template + (frame − template) ≠ frame): the reader needs the writer's correction.
+  float b = 0, f = 0;
+  for (int i = 1; b + (f - b) == f; ++i) b = 1e-3f * i / 7, f = 0.3f + i * 1e-4f;
+  c.template_mesh.V(1, 0) = b;
+  c.sequences[0].frames[0](1, 0) = f;
+  render::Image texture(4, 2, Eigen::Vector3d(0.2, 0.4, 0.6));
+  c.texture_png = render::encode_png(texture);
+  return c;
+}
+
+template <class Matrix>
+bool identical(const Matrix& a, const Matrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && (a.size() == 0 || a == b);
+}
+
+void expect_same_mesh(const core::Mesh& a, const core::Mesh& b) {
+  EXPECT_TRUE(identical(a.V, b.V));
+  EXPECT_TRUE(identical(a.F, b.F));
+  EXPECT_TRUE(identical(a.colors, b.colors));
+  EXPECT_TRUE(identical(a.uvs, b.uvs));
+}
+
+void expect_same_space(const asset::CharacterSpace& a, const asset::CharacterSpace& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.cyclic, b.cyclic);
+  EXPECT_EQ(a.frames, b.frames);
+  EXPECT_EQ(a.dimensions, b.dimensions);
+  ASSERT_EQ(a.sources.size(), b.sources.size());
+  for (std::size_t i = 0; i < a.sources.size(); ++i) {
+    EXPECT_EQ(a.sources[i].sequence, b.sources[i].sequence);
+    EXPECT_EQ(a.sources[i].first, b.sources[i].first);
+    EXPECT_EQ(a.sources[i].frames, b.sources[i].frames);
+    EXPECT_EQ(a.sources[i].duration_s, b.sources[i].duration_s);
+  }
+  EXPECT_EQ(a.parameter_names, b.parameter_names);
+  EXPECT_EQ(a.parameter_measures, b.parameter_measures);
+  EXPECT_EQ(a.breakpoints, b.breakpoints);
+  EXPECT_EQ(a.node_coordinates, b.node_coordinates);
+  EXPECT_EQ(a.references, b.references);
+  EXPECT_EQ(a.root_motion, b.root_motion);
+  EXPECT_EQ(a.time_warp, b.time_warp);
+  EXPECT_EQ(a.displacement_offsets, b.displacement_offsets);
+  EXPECT_EQ(a.displacement_vertices, b.displacement_vertices);
+  EXPECT_EQ(a.displacement_values, b.displacement_values);
+  EXPECT_EQ(a.displacement_threshold_m, b.displacement_threshold_m);
+  EXPECT_EQ(a.tolerance_mm, b.tolerance_mm);
+  EXPECT_EQ(a.max_error_mm, b.max_error_mm);
+  ASSERT_EQ(a.parameter_map.has_value(), b.parameter_map.has_value());
+  if (a.parameter_map) {
+    EXPECT_EQ(a.parameter_map->degree, b.parameter_map->degree);
+    EXPECT_EQ(a.parameter_map->parameters, b.parameter_map->parameters);
+    EXPECT_EQ(a.parameter_map->monomials, b.parameter_map->monomials);
+    EXPECT_TRUE(identical(a.parameter_map->coefficients, b.parameter_map->coefficients));
+    EXPECT_TRUE(identical(a.parameter_map->parameter_range, b.parameter_map->parameter_range));
+    EXPECT_EQ(a.parameter_map->residual_rms, b.parameter_map->residual_rms);
+    EXPECT_EQ(a.parameter_map->residual_max, b.parameter_map->residual_max);
+  }
+}
+
+void expect_same_parts(const learn::LearntModel& a, const learn::LearntModel& b) {
+  expect_same_mesh(a.template_mesh, b.template_mesh);
+  ASSERT_EQ(a.parts.size(), b.parts.size());
+  for (std::size_t p = 0; p < a.parts.size(); ++p) {
+    EXPECT_EQ(a.parts[p].part.name, b.parts[p].part.name);
+    EXPECT_EQ(a.parts[p].part.parent, b.parts[p].part.parent);
+    EXPECT_EQ(a.parts[p].part.vertices, b.parts[p].part.vertices);
+    EXPECT_EQ(a.parts[p].part.frontier, b.parts[p].part.frontier);
+    EXPECT_TRUE(identical(a.parts[p].mean, b.parts[p].mean));
+    EXPECT_TRUE(identical(a.parts[p].basis, b.parts[p].basis));
+    EXPECT_TRUE(identical(a.parts[p].singular_values, b.parts[p].singular_values));
+    EXPECT_EQ(a.parts[p].energy, b.parts[p].energy);
+  }
+  EXPECT_EQ(a.regions, b.regions);
+  EXPECT_EQ(a.examples, b.examples);
+}
+
+void expect_same_character(const asset::Character& a, const asset::Character& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.fps, b.fps);
+  EXPECT_EQ(a.units, b.units);
+  expect_same_mesh(a.template_mesh, b.template_mesh);
+  EXPECT_EQ(a.texture_png, b.texture_png);
+  ASSERT_EQ(a.sequences.size(), b.sequences.size());
+  for (std::size_t s = 0; s < a.sequences.size(); ++s) {
+    EXPECT_EQ(a.sequences[s].name, b.sequences[s].name);
+    ASSERT_EQ(a.sequences[s].frame_count(), b.sequences[s].frame_count());
+    for (int t = 0; t < a.sequences[s].frame_count(); ++t) {
+      EXPECT_TRUE(identical(a.sequences[s].frames[t], b.sequences[s].frames[t])) << a.sequences[s].name << " frame " << t;
+      const auto& ra = a.sequences[s].root_motion[t];
+      const auto& rb = b.sequences[s].root_motion[t];
+      EXPECT_TRUE(ra.x == rb.x && ra.y == rb.y && ra.z == rb.z && ra.heading == rb.heading);
+    }
+  }
+  ASSERT_EQ(a.spaces.size(), b.spaces.size());
+  for (std::size_t s = 0; s < a.spaces.size(); ++s) expect_same_space(a.spaces[s], b.spaces[s]);
+  ASSERT_EQ(a.transitions.size(), b.transitions.size());
+  for (std::size_t t = 0; t < a.transitions.size(); ++t) {
+    EXPECT_EQ(a.transitions[t].from, b.transitions[t].from);
+    EXPECT_EQ(a.transitions[t].to, b.transitions[t].to);
+    EXPECT_EQ(a.transitions[t].rows, b.transitions[t].rows);
+    EXPECT_EQ(a.transitions[t].cols, b.transitions[t].cols);
+    EXPECT_EQ(a.transitions[t].similarity, b.transitions[t].similarity);
+  }
+  ASSERT_EQ(a.parts.has_value(), b.parts.has_value());
+  if (a.parts) expect_same_parts(*a.parts, *b.parts);
+  EXPECT_EQ(a.provenance, b.provenance);
+}
+
+core::Json json_of(const std::string& glb) { return core::Json::parse(asset::unpack_glb(glb, "test").json); }
+
+std::string with_json(const std::string& glb, const core::Json& json) {
+  const auto chunks = asset::unpack_glb(glb, "test");
+  return asset::pack_glb(json.dump(), {reinterpret_cast<const std::uint8_t*>(chunks.bin.data()), chunks.bin.size()});
+}
+
+/// Runs `read` and expects bad_input whose message names `file`.
+template <class Read>
+void expect_bad_input(const std::string& file, Read read, const std::string& what) {
+  try {
+    read();
+    ADD_FAILURE() << what << ": accepted";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ExitCode::bad_input) << what << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << what << ": " << e.what();
+  }
+}
+
+TEST(CharacterGlb, RoundTripIsBitExact) {
+  testing::TemporaryDirectory dir("glb_round_trip");
+  const asset::Character character = test_character();
+  const asset::GlbSummary summary = asset::write_character_glb(dir / "character.glb", character);
+  EXPECT_EQ(summary.file_bytes, std::filesystem::file_size(dir / "character.glb"));
+  EXPECT_EQ(testing::count_hidden_files(dir.path()), 0);
+  expect_same_character(character, asset::read_character_glb(dir / "character.glb"));
+}
+
+TEST(CharacterGlb, SameCharacterSameBytes) {
+  const asset::Character character = test_character();
+  const std::string first = asset::character_glb_bytes(character);
+  EXPECT_EQ(first, asset::character_glb_bytes(asset::parse_character_glb(first, "first")));
+  EXPECT_EQ(first, asset::character_glb_bytes(character));
+}
+
+TEST(CharacterGlb, SequencesAreMorphTargetAnimations) {
+  const asset::Character character = test_character();
+  const core::Json json = json_of(asset::character_glb_bytes(character));
+  const core::Json& primitive = json["meshes"][0]["primitives"][0];
+  const int frames = character.sequences[0].frame_count() + character.sequences[1].frame_count();
+  ASSERT_EQ(primitive["targets"].size(), static_cast<std::size_t>(frames));
+  EXPECT_EQ(json["meshes"][0]["extras"]["targetNames"][0], "walk/0000");
+  ASSERT_EQ(json["animations"].size(), 2u);
+  for (int s = 0; s < 2; ++s) {
+    const core::Json& animation = json["animations"][s];
+    EXPECT_EQ(animation["name"], character.sequences[s].name);
+    const core::Json& weights = json["accessors"][animation["samplers"][0]["output"].get<int>()];
+    EXPECT_EQ(weights["count"], character.sequences[s].frame_count() * frames);
+    const core::Json& times = json["accessors"][animation["samplers"][0]["input"].get<int>()];
+    EXPECT_FLOAT_EQ(times["max"][0].get<double>(), (character.sequences[s].frame_count() - 1) / character.fps);
+  }
+  EXPECT_TRUE(primitive["attributes"].contains("COLOR_0"));
+  EXPECT_TRUE(primitive["attributes"].contains("TEXCOORD_0"));
+  EXPECT_EQ(json["images"][0]["mimeType"], "image/png");
+  EXPECT_EQ(json["extensionsUsed"][0], "SURFCAP_motion_graph");
+  // The coordinate of test_character() that loses bits in frame − template travels as a correction.
+  EXPECT_TRUE(json["extensions"]["SURFCAP_motion_graph"]["sequences"][0].contains("corrections"));
+  EXPECT_FALSE(json.contains("extensionsRequired"));  // viewers may ignore it
+}
+
+TEST(CharacterGlb, NonByteColoursAndDoublesAreStoredAsFloat32) {
+  asset::Character character = test_character();
+  character.template_mesh.colors.setConstant(0.3);  // not k/255: float COLOR_0
+  character.sequences[0].frames[0](0, 0) = 0.1;      // not a float: rounded
+  const asset::Character read = asset::parse_character_glb(asset::character_glb_bytes(character), "c.glb");
+  EXPECT_EQ(read.template_mesh.colors(5, 1), static_cast<double>(0.3f));
+  EXPECT_EQ(read.sequences[0].frames[0](0, 0), static_cast<double>(0.1f));
+}
+
+TEST(AnimationGlb, PlaysEveryFrameAsAMorphTarget) {
+  testing::TemporaryDirectory dir("glb_animation");
+  const core::Mesh mesh = testing::make_sphere(6, 8, 0.3);
+  std::vector<Eigen::MatrixXd> frames;
+  for (int t = 0; t < 5; ++t) frames.push_back(mesh.V.rowwise() + Eigen::RowVector3d(0.1 * t, 0, 0));
+  const auto summary = asset::write_animation_glb(dir / "animation.glb", mesh, frames, 25, "play");
+  EXPECT_EQ(summary.morph_targets, 5);
+  EXPECT_EQ(summary.animations, 1);
+  const core::Json json = json_of(core::read_file(dir / "animation.glb"));
+  EXPECT_EQ(json["animations"][0]["name"], "play");
+  const core::Json& target = json["accessors"][json["meshes"][0]["primitives"][0]["targets"][4]["POSITION"].get<int>()];
+  EXPECT_NEAR(target["min"][0].get<double>(), 0.4, 1e-6);  // frame 4 = template + (0.4, 0, 0)
+  EXPECT_NEAR(target["max"][0].get<double>(), 0.4, 1e-6);
+  // Not a character: no extension.
+  expect_bad_input("animation.glb", [&] { asset::read_character_glb(dir / "animation.glb"); }, "animation as character");
+}
+
+TEST(CharacterGlb, RefusesTruncatedCorruptAndNewerFiles) {
+  testing::TemporaryDirectory dir("glb_refusals");
+  const std::string glb = asset::character_glb_bytes(test_character());
+  auto write_and_read = [&](const std::string& bytes, const std::string& what) {
+    testing::write_text(dir / "bad.glb", bytes);
+    expect_bad_input("bad.glb", [&] { asset::read_character_glb(dir / "bad.glb"); }, what);
+  };
+  write_and_read(glb.substr(0, glb.size() / 2), "truncated");
+  write_and_read(glb.substr(0, 10), "shorter than a header");
+  std::string magic = glb;
+  magic[0] = 'x';
+  write_and_read(magic, "wrong magic");
+  core::Json json = json_of(glb);
+  json["extensions"]["SURFCAP_motion_graph"]["version"] = asset::motion_graph_extension_version + 1;
+  write_and_read(with_json(glb, json), "newer version");
+  json = json_of(glb);
+  auto& space = json["extensions"]["SURFCAP_motion_graph"]["spaces"][0];
+  space["references"] = space["timeWarp"];  // an accessor of the wrong type and count
+  write_and_read(with_json(glb, json), "wrong accessor shape");
+  json = json_of(glb);
+  json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["frames"] = 1000;
+  write_and_read(with_json(glb, json), "frames disagreeing with the arrays");
+  json = json_of(glb);
+  json["accessors"][0]["count"] = 1 << 30;
+  write_and_read(with_json(glb, json), "accessor beyond its bufferView");
+  json = json_of(glb);
+  json["buffers"][0]["uri"] = "/etc/passwd";
+  write_and_read(with_json(glb, json), "external buffer");
+  write_and_read(std::string(glb).replace(glb.find("\"asset\""), 7, "\"ass\"\"\""), "malformed JSON");
+  try {
+    asset::read_character_glb(dir / "missing.glb");
+    ADD_FAILURE() << "missing file accepted";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.code(), core::ExitCode::io);
+  }
+}
+
+}  // namespace
+}  // namespace surfcap
