@@ -5,11 +5,43 @@
 #include "surfcap/asset/glb_extension.hpp"
 
 namespace surfcap::asset::detail {
+
+long integer_field(const core::Json& object, std::string_view key, const std::filesystem::path& source, long min,
+                   long max) {
+  const auto it = object.find(key);
+  if (it == object.end()) throw core::bad_input(source, "missing field \"" + std::string(key) + "\"");
+  bool in_range = false;
+  if (it->is_number_unsigned()) {
+    const std::uint64_t value = it->get<std::uint64_t>();
+    in_range = value <= static_cast<std::uint64_t>(max) && (min <= 0 || value >= static_cast<std::uint64_t>(min));
+  } else if (it->is_number_integer()) {
+    const std::int64_t value = it->get<std::int64_t>();
+    in_range = value >= min && value <= max;
+  }
+  if (!in_range)
+    throw core::bad_input(source, "field \"" + std::string(key) + "\" must be an integer in [" + std::to_string(min) +
+                                      ", " + std::to_string(max) + "]");
+  return static_cast<long>(it->get<std::int64_t>());
+}
+
 namespace {
+
+std::vector<std::vector<int>> monomials_of(const core::Json& json, const std::filesystem::path& source) {
+  std::vector<std::vector<int>> monomials;
+  for (const core::Json& term : core::get_field<core::Json>(json, "monomials", source)) {
+    monomials.emplace_back();
+    for (const core::Json& exponent : term) {
+      if (!exponent.is_number_integer() || exponent.get<std::int64_t>() < 0 || exponent.get<std::int64_t>() > 64)
+        throw core::bad_input(source, "parameter map: exponents must be integers in [0, 64]");
+      monomials.back().push_back(exponent.get<int>());
+    }
+  }
+  return monomials;
+}
 
 /// Accessor index under `key`, -1 when absent (an empty array).
 int optional_accessor(const core::Json& object, const std::string& key, const std::filesystem::path& source) {
-  return object.contains(key) ? core::get_field<int>(object, key, source) : -1;
+  return object.contains(key) ? integer_field(object, key, source) : -1;
 }
 
 template <class T>
@@ -42,9 +74,9 @@ std::vector<int> checked_indices(const std::vector<std::uint32_t>& values, long 
 
 blend::ParameterMap parameter_map_from(const core::Json& json, int dimensions, const std::filesystem::path& source) {
   blend::ParameterMap map;
-  map.degree = core::get_field<int>(json, "degree", source);
+  map.degree = integer_field(json, "degree", source);
   map.parameters = core::get_field<std::vector<std::string>>(json, "parameters", source);
-  map.monomials = core::get_field<std::vector<std::vector<int>>>(json, "monomials", source);
+  map.monomials = monomials_of(json, source);
   const auto coefficients = core::get_field<std::vector<std::vector<double>>>(json, "coefficients", source);
   const auto range = core::get_field<std::vector<std::vector<double>>>(json, "parameterRange", source);
   map.residual_rms = core::get_field<double>(json, "residualRms", source);
@@ -70,7 +102,7 @@ void read_displacements(const core::Json& json, const GlbAccessors& accessors, l
   const auto& source = accessors.source();
   const std::string what = "space '" + space.name + "' displacements";
   const long rows = shape(space.node_count(), space.frames, accessors, what);
-  const auto offsets = accessors.read<std::uint32_t>(core::get_field<int>(json, "offsets", source), u32,
+  const auto offsets = accessors.read<std::uint32_t>(integer_field(json, "offsets", source), u32,
                                                      TINYGLTF_TYPE_SCALAR, rows + 1, what + " offsets");
   for (long r = 0; r < rows; ++r)
     if (offsets[r] > offsets[r + 1]) throw core::bad_input(source, what + ": offsets decrease at row " + std::to_string(r));
@@ -90,13 +122,15 @@ CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors,
   space.name = core::get_field<std::string>(json, "name", source);
   const std::string what = "space '" + space.name + "'";
   space.cyclic = core::get_field<bool>(json, "cyclic", source);
-  space.frames = core::get_field<int>(json, "frames", source);
-  space.dimensions = core::get_field<int>(json, "dimensions", source);
+  space.frames = integer_field(json, "frames", source);
+  space.dimensions = integer_field(json, "dimensions", source);
   if (space.dimensions < 1 || space.dimensions > 3 || space.frames < 1)
     throw core::bad_input(source, what + ": dimensions must be 1..3 and frames positive");
   for (const core::Json& s : core::get_field<core::Json>(json, "sources", source))
-    space.sources.push_back({core::get_field<std::string>(s, "sequence", source), core::get_field<int>(s, "first", source),
-                             core::get_field<int>(s, "frames", source), core::get_field<double>(s, "durationS", source)});
+    space.sources.push_back({core::get_field<std::string>(s, "sequence", source),
+                             static_cast<int>(integer_field(s, "first", source, 0)),
+                             static_cast<int>(integer_field(s, "frames", source, 0)),
+                             core::get_field<double>(s, "durationS", source)});
   if (static_cast<int>(space.sources.size()) != space.source_count())
     throw core::bad_input(source, what + ": 2^dimensions sources expected");
   space.parameter_names = json.value("parameterNames", std::vector<std::string>{});
@@ -109,11 +143,11 @@ CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors,
   const long n = space.source_count(), nt = shape(n, space.frames, accessors, what);
   if (const int weights = optional_accessor(json, "nodeWeights", source); weights >= 0)
     accessors.read<float>(weights, f32, TINYGLTF_TYPE_SCALAR, shape(space.node_count(), n, accessors, what), what + " nodeWeights");
-  space.references = accessors.read<float>(core::get_field<int>(json, "references", source), f32, TINYGLTF_TYPE_VEC3,
+  space.references = accessors.read<float>(integer_field(json, "references", source), f32, TINYGLTF_TYPE_VEC3,
                                            shape(nt, character.vertex_count(), accessors, what), what + " references");
-  space.root_motion = accessors.read<float>(core::get_field<int>(json, "rootMotion", source), f32, TINYGLTF_TYPE_VEC4, nt,
+  space.root_motion = accessors.read<float>(integer_field(json, "rootMotion", source), f32, TINYGLTF_TYPE_VEC4, nt,
                                             what + " rootMotion");
-  space.time_warp = accessors.read<float>(core::get_field<int>(json, "timeWarp", source), f32, TINYGLTF_TYPE_SCALAR, nt,
+  space.time_warp = accessors.read<float>(integer_field(json, "timeWarp", source), f32, TINYGLTF_TYPE_SCALAR, nt,
                                           what + " timeWarp");
   read_displacements(core::get_field<core::Json>(json, "displacements", source), accessors, character.vertex_count(), space);
   if (json.contains("parameterMap")) space.parameter_map = parameter_map_from(json["parameterMap"], space.dimensions, source);
@@ -142,8 +176,8 @@ void read_transitions(const core::Json& extension, const GlbAccessors& accessors
     CharacterTransition t;
     t.from = core::get_field<std::string>(json, "from", source);
     t.to = core::get_field<std::string>(json, "to", source);
-    t.rows = core::get_field<long>(json, "rows", source);
-    t.cols = core::get_field<long>(json, "cols", source);
+    t.rows = integer_field(json, "rows", source);
+    t.cols = integer_field(json, "cols", source);
     const std::string what = "transition " + t.from + " -> " + t.to;
     const int from = space_named(character, t.from), to = space_named(character, t.to);
     if (from < 0 || to < 0) throw core::bad_input(source, what + ": unknown space");
@@ -172,18 +206,18 @@ void read_parts(const core::Json& extension, const GlbAccessors& accessors, Char
     learn::PartModel part;
     part.part.name = core::get_field<std::string>(p, "name", source);
     const std::string what = "part '" + part.part.name + "'";
-    part.part.parent = core::get_field<int>(p, "parent", source);
+    part.part.parent = integer_field(p, "parent", source);
     if (part.part.parent < -1 || part.part.parent >= static_cast<int>(model.parts.size()) ||
         (part.part.parent < 0) != model.parts.empty())
       throw core::bad_input(source, what + ": parents must come first and only the first part is the root");
-    const auto indices = accessors.read<std::uint32_t>(core::get_field<int>(p, "vertices", source), u32,
+    const auto indices = accessors.read<std::uint32_t>(integer_field(p, "vertices", source), u32,
                                                        TINYGLTF_TYPE_SCALAR, -1, what + " vertices");
     part.part.vertices = checked_indices(indices, vertices, accessors, what);
     part.part.frontier = checked_indices(read_optional<std::uint32_t>(accessors, p, "frontier", u32, TINYGLTF_TYPE_SCALAR, -1, what),
                                          vertices, accessors, what);
     const long values = 3 * static_cast<long>(part.part.vertices.size());
-    const long kept = core::get_field<long>(p, "kept", source);
-    const auto mean = accessors.read<float>(core::get_field<int>(p, "mean", source), f32, TINYGLTF_TYPE_SCALAR, values, what + " mean");
+    const long kept = integer_field(p, "kept", source);
+    const auto mean = accessors.read<float>(integer_field(p, "mean", source), f32, TINYGLTF_TYPE_SCALAR, values, what + " mean");
     part.mean = Eigen::Map<const Eigen::VectorXf>(mean.data(), values).cast<double>();
     const auto basis = read_optional<float>(accessors, p, "basis", f32, TINYGLTF_TYPE_SCALAR, shape(values, kept, accessors, what), what);
     part.basis.resize(values, kept);
@@ -203,7 +237,7 @@ void read_parts(const core::Json& extension, const GlbAccessors& accessors, Char
     }
   if (json.contains("examples"))
     for (const core::Json& e : json["examples"])
-      model.examples.emplace_back(core::get_field<std::string>(e, "sequence", source), core::get_field<int>(e, "frame", source));
+      model.examples.emplace_back(core::get_field<std::string>(e, "sequence", source), integer_field(e, "frame", source));
   character.parts = std::move(model);
 }
 

@@ -42,7 +42,7 @@ std::vector<std::uint8_t> texture_bytes(const tinygltf::Model& model, const tiny
 void read_template(const tinygltf::Model& model, const GlbAccessors& accessors, const core::Json& extension,
                    Character& character) {
   const auto& source = accessors.source();
-  const tinygltf::Primitive& primitive = template_primitive(model, core::get_field<int>(extension, "mesh", source), source);
+  const tinygltf::Primitive& primitive = template_primitive(model, integer_field(extension, "mesh", source), source);
   core::Mesh& mesh = character.template_mesh;
   const int position = primitive.attributes.at("POSITION");
   const long vertices = accessors.count(position, "template POSITION");
@@ -66,7 +66,7 @@ void read_template(const tinygltf::Model& model, const GlbAccessors& accessors, 
     }
   }
   if (extension.contains("template") && extension["template"].contains("uvs"))
-    mesh.uvs = matrix_of(accessors.read<float>(core::get_field<int>(extension["template"], "uvs", source), f32,
+    mesh.uvs = matrix_of(accessors.read<float>(integer_field(extension["template"], "uvs", source), f32,
                                                TINYGLTF_TYPE_VEC2, vertices, "template uvs"), vertices, 2);
   character.texture_png = texture_bytes(model, primitive, accessors);
   core::MeshRequirements lenient;
@@ -80,7 +80,7 @@ void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& acc
   const auto& source = accessors.source();
   core::AlignedSequence sequence;
   sequence.name = core::get_field<std::string>(entry, "name", source);
-  const long frames = core::get_field<long>(entry, "frames", source), first = entry.value("firstTarget", 0L);
+  const long frames = integer_field(entry, "frames", source), first = entry.contains("firstTarget") ? integer_field(entry, "firstTarget", source) : 0;
   if (frames < 0 || first < 0 || first + frames > static_cast<long>(primitive.targets.size()))
     throw core::bad_input(source, "sequence '" + sequence.name + "' refers to morph targets that do not exist");
   const long vertices = static_cast<long>(base.size() / 3);
@@ -97,9 +97,9 @@ void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& acc
   }
   if (entry.contains("corrections")) {
     const core::Json& c = entry["corrections"];
-    const auto indices = accessors.read<std::uint32_t>(core::get_field<int>(c, "indices", source), u32,
+    const auto indices = accessors.read<std::uint32_t>(integer_field(c, "indices", source), u32,
                                                        TINYGLTF_TYPE_SCALAR, -1, "corrections");
-    const auto exact = accessors.read<float>(core::get_field<int>(c, "values", source), f32, TINYGLTF_TYPE_SCALAR,
+    const auto exact = accessors.read<float>(integer_field(c, "values", source), f32, TINYGLTF_TYPE_SCALAR,
                                              static_cast<long>(indices.size()), "corrections");
     for (std::size_t i = 0; i < indices.size(); ++i) {
       if (indices[i] >= static_cast<std::uint64_t>(frames) * base.size())
@@ -109,7 +109,7 @@ void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& acc
     }
   }
   if (frames > 0) {
-    const auto root = accessors.read<float>(core::get_field<int>(entry, "rootMotion", source), f32, TINYGLTF_TYPE_VEC4,
+    const auto root = accessors.read<float>(integer_field(entry, "rootMotion", source), f32, TINYGLTF_TYPE_VEC4,
                                             frames, "root motion of '" + sequence.name + "'");
     for (long t = 0; t < frames; ++t)
       sequence.root_motion.push_back({root[4 * t], root[4 * t + 1], root[4 * t + 2], root[4 * t + 3]});
@@ -126,7 +126,7 @@ Character read_character(const tinygltf::Model& model, const GlbAccessors& acces
   character.units = extension.value("units", std::string("m"));
   if (extension.contains("provenance")) character.provenance = extension["provenance"];
   read_template(model, accessors, extension, character);
-  const tinygltf::Primitive& primitive = template_primitive(model, extension["mesh"].get<int>(), source);
+  const tinygltf::Primitive& primitive = template_primitive(model, integer_field(extension, "mesh", source), source);
   std::vector<float> base(static_cast<std::size_t>(character.template_mesh.V.size()));
   for (long v = 0; v < character.vertex_count(); ++v)
     for (int k = 0; k < 3; ++k) base[v * 3 + k] = static_cast<float>(character.template_mesh.V(v, k));
@@ -148,7 +148,7 @@ Character parse_character_glb(std::string_view bytes, const std::filesystem::pat
     if (extensions == json.end() || !extensions->is_object() || !extensions->contains(motion_graph_extension))
       throw core::bad_input(source, std::string("no ") + motion_graph_extension + " extension: not a surfcap character");
     const core::Json& extension = (*extensions)[motion_graph_extension];
-    const int version = core::get_field<int>(extension, "version", source);
+    const int version = integer_field(extension, "version", source);
     if (version < 1 || version > motion_graph_extension_version)
       throw core::bad_input(source, std::string(motion_graph_extension) + " version " + std::to_string(version) +
                                         " (this surfcap reads 1.." + std::to_string(motion_graph_extension_version) +

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The Khronos glTF-Validator (npm gltf-validator, run through Node) on what surfcap writes:
+# character.glb exported by surfcap-export from the synthetic tiny build, animation.glb of
+# surfcap-play (or of asset::write_animation_glb, the seed in tests/fuzz/corpus/glb, when
+# surfcap-play is not built), and the writer's seed files. Every file must have 0 errors.
+# The validator is installed into <build>/cache/gltf-validator on first use.
+# Usage: bash gltf_validator.sh <build_dir> <source_dir>
+set -euo pipefail
+build=$1
+source=$2
+validator_version=2.0.0-dev.3.10
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  echo "SKIP: node and npm are needed to run the Khronos glTF-Validator (apt-get install nodejs npm)"
+  exit 77
+fi
+cache=$build/cache/gltf-validator
+if [[ ! -f $cache/node_modules/gltf-validator/package.json ]] ||
+   ! grep -q "\"version\": \"$validator_version\"" "$cache/node_modules/gltf-validator/package.json"; then
+  mkdir -p "$cache"
+  (cd "$cache" && npm install --no-audit --no-fund --loglevel=error "gltf-validator@$validator_version")
+fi
+validate() { node "$source/tests/e2e/gltf_validate.js" "$cache" "$@"; }
+
+files=("$source"/tests/fuzz/corpus/glb/character.glb "$source"/tests/fuzz/corpus/glb/character_float_colours.glb)
+work=$(mktemp -d "$build/gltf_validator_e2e.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+export_tool=$build/tools/surfcap-export
+if [[ -x $export_tool ]]; then
+  "$build/tools/surfcap-synth" --preset tiny --no-images --out "$work/capture" --threads 2 > "$work/synth.log" 2>&1
+  database=$work/capture/ground_truth/database/database.json
+  graph_config=$source/configs/graphs/tiny.json
+  precompute=$build/tools/surfcap-precompute
+  "$precompute" --threads 2 spaces --database "$database" --graph "$graph_config" --output "$work/out" \
+    --sweep-mm 5 --validation-samples 2 > "$work/spaces.log" 2>&1
+  "$precompute" --threads 2 transitions --database "$database" --graph "$graph_config" --output "$work/out" \
+    > "$work/transitions.log" 2>&1
+  "$export_tool" --database "$database" --graph "$work/out/graph.json" --output "$work/character.glb" \
+    --report "$work/export.json"
+  test -s "$work/character.png"
+  python3 - "$work/export.json" <<'PY'
+import json, sys
+report = json.load(open(sys.argv[1]))
+assert report["round_trip_identical"], "character.glb does not read back to the same bytes"
+content = report["content"]
+print("export:", content["file_bytes"], "bytes,", content["morph_targets"], "morph targets,",
+      len(content["spaces"]), "spaces,", len(content.get("transitions", [])), "transitions,",
+      "%.3f s" % report["timings_s"]["write"])
+PY
+  files+=("$work/character.glb")
+  play=$build/tools/surfcap-play
+  if [[ -x $play ]]; then
+    if "$play" --threads 2 --character "$work/character.glb" --script "$source/configs/control/tiny_timeline.json" --output "$work/play" > "$work/play.log" 2>&1; then
+      files+=("$work/play/animation.glb")
+    else
+      echo "surfcap-play failed:"; tail -5 "$work/play.log"; exit 1
+    fi
+  else
+    files+=("$source/tests/fuzz/corpus/glb/animation.glb")
+  fi
+else
+  echo "note: surfcap-export is not built; validating the writer's seed files only"
+  files+=("$source/tests/fuzz/corpus/glb/animation.glb")
+fi
+validate "${files[@]}"
+echo "gltf_validator: ok"
