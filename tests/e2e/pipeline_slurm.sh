@@ -114,7 +114,9 @@ sinfo
 "$build/tools/surfcap-synth" --preset tiny --seed 1 --no-images --out "$work/capture" --log-level warn
 read -r -a targets <<< "$(pipeline_targets)"
 echo "targets: ${targets[*]} alignment"
-common=(DATABASE=aligned BLOCKS=2 THREADS=1)
+# The whole chain from the capture, with a quick alignment (accuracy is not the point here).
+common=(DATABASE=aligned BLOCKS=2 THREADS=1 SPACES_OPTIONS="--sweep-mm 5 --validation-samples 2"
+        REGISTER_OPTIONS="--levels 1 --rotation-iterations 1 --dense-iterations 1 --surface-model --no-evaluation")
 pipeline_make "$work/local" "${common[@]}" -j2 "${targets[@]}" alignment
 jobs_before=$(scontrol show jobs --oneline 2>/dev/null | grep -c JobId= || true)
 pipeline_make "$work/slurm" "${common[@]}" -j2 SUBMIT="srun --quiet --ntasks=1 --cpus-per-task=1" \
