@@ -11,7 +11,7 @@
 # LOG_LEVEL and <STAGE>_OPTIONS (extra options per tool).
 #
 # Targets: all (default: character + previews), alignment, similarity, parts, spaces, graph,
-# transitions, character, previews, clean, tidy.
+# transitions, character, previews, summary, clean, tidy.
 #
 # Every step writes through temporary names and renames (docs/cli.md "Outputs"); a step that
 # fails or is killed has its targets removed (.DELETE_ON_ERROR), so the next make redoes it, and
@@ -29,7 +29,7 @@ BLOCKS ?= 4
 THREADS ?= 0
 SUBMIT ?=
 NAME ?= character
-CONTROL ?= $(SURFCAP)/pipelines/controls/$(basename $(notdir $(GRAPH))).json
+CONTROL ?= $(SURFCAP)/configs/control/$(basename $(notdir $(GRAPH)))_timeline.json
 BIN ?= $(SURFCAP)/build/tools
 TRACK_TOOLS ?= yes
 LOG_LEVEL ?= warn
@@ -106,7 +106,7 @@ TRANSITION_FILES := $(foreach e,$(EDGES),$(M)/transitions/$(e).npy)
 CHARACTER := $(OUT)/$(NAME).glb
 PREVIEWS := $(V)/animation.glb $(V)/contact_sheet.png
 
-.PHONY: all alignment similarity parts spaces graph transitions character previews clean tidy
+.PHONY: all alignment similarity parts spaces graph transitions character previews clean tidy summary
 all: character previews
 alignment: $(ALIGNED)
 similarity: $(TREE)
@@ -117,7 +117,10 @@ transitions: $(TRANSITION_FILES)
 character: $(CHARACTER)
 previews: $(PREVIEWS)
 clean:
-	rm -rf $(A) $(P) $(M) $(V) $(CHARACTER) $(OUT)/report
+	rm -rf $(A) $(P) $(M) $(V) $(CHARACTER) $(OUT)/$(NAME).png $(OUT)/report
+# Quality figures, wall time per stage and where the results are (pipelines/summary.py).
+summary:
+	@python3 $(SURFCAP)/pipelines/summary.py $(OUT) --name $(NAME)
 # Temporary files a killed step left (.<name>.tmp-<pid>-<n>); only while no step runs.
 tidy:
 	find $(OUT) -name '.*.tmp-*' -print -delete
@@ -168,19 +171,20 @@ $(GRAPH_FILE): $(SPACE_FILES) $(GRAPH) $(call tool,precompute)
 
 # ── transitions, one job per edge FROM__TO ──────────────────────────────────────────────────────
 edge_spaces = $(foreach s,$(subst __, ,$(1)),$(M)/spaces/$(s)/space.json)
-$(M)/transitions/%.npy $(M)/report/transitions_%.json: $$(call edge_spaces,$$*) $(DB_FILES) $(GRAPH) \
+$(M)/transitions/%.npy $(M)/transitions/%.json $(M)/transitions/%.png $(M)/report/transitions_%.json: $$(call edge_spaces,$$*) $(DB_FILES) $(GRAPH) \
     $(call tool,precompute)
-	rm -f $(M)/transitions/.$*.npy.tmp-*
+	rm -f $(M)/transitions/.$*.*.tmp-*
 	$(RUN) precompute.transitions $@ $(SUBMIT) $(BIN)/surfcap-precompute transitions --database $(DB) \
 	  --graph $(GRAPH) --output $(M) --edge $(subst __,:,$*) --report $(M)/report/transitions_$*.json \
 	  $(TRANSITIONS_OPTIONS) $(COMMON)
 
 # ── packaging and previews ──────────────────────────────────────────────────────────────────────
-$(CHARACTER) $(OUT)/report/export.json &: $(GRAPH_FILE) $(TRANSITION_FILES) $(LEARNT) $(DB_FILES) \
+$(CHARACTER) $(OUT)/$(NAME).png $(OUT)/report/export.json &: $(GRAPH_FILE) $(TRANSITION_FILES) $(LEARNT) $(DB_FILES) \
     $(call tool,export)
-	rm -f $(OUT)/.$(NAME).glb.tmp-*
+	rm -f $(OUT)/.$(NAME).glb.tmp-* $(OUT)/.$(NAME).png.tmp-*
 	$(RUN) export $(CHARACTER) $(SUBMIT) $(BIN)/surfcap-export --database $(DB) --graph $(GRAPH_FILE) \
 	  --parts $(LEARNT) --output $(CHARACTER) --name $(NAME) --report $(OUT)/report/export.json \
+	  --preview $(OUT)/$(NAME).png \
 	  $(EXPORT_OPTIONS) $(COMMON)
 
 $(PREVIEWS) $(V)/report.json &: $(CHARACTER) $(CONTROL) $(call tool,play)
