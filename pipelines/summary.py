@@ -22,19 +22,26 @@ def load(out, path):
 
 
 def stage_times(out):
-    """{stage: (steps, sum of step seconds, first start → last end seconds)} in the order run."""
+    """{stage: (steps, sum of step seconds, first start → last end seconds, CPU seconds)} in the
+    order run; CPU is None when the log has no CPU columns."""
     path = os.path.join(out, "report", "steps.tsv")
     if not os.path.exists(path):
         return {}
     steps = collections.OrderedDict()
     with open(path, encoding="utf-8") as handle:
         for line in handle:
-            stage, _target, start, end, code = line.rstrip("\n").split("\t")
-            if code != "0":
+            fields = line.rstrip("\n").split("\t")
+            if fields[4] != "0":
                 continue
-            steps.setdefault(stage, []).append((float(start), float(end)))
-    return {stage: (len(spans), sum(e - s for s, e in spans), max(e for _, e in spans) - min(s for s, _ in spans))
-            for stage, spans in steps.items()}
+            cpu = sum(float(f) for f in fields[5:7]) if len(fields) >= 7 else None
+            steps.setdefault(fields[0], []).append((float(fields[2]), float(fields[3]), cpu))
+    times = {}
+    for stage, spans in steps.items():
+        cpus = [c for _, _, c in spans]
+        times[stage] = (len(spans), sum(e - s for s, e, _ in spans),
+                        max(e for _, e, _ in spans) - min(s for s, _, _ in spans),
+                        None if None in cpus else sum(cpus))
+    return times
 
 
 def quality(out, name):
@@ -120,18 +127,24 @@ def main():
         print(f"  {label:<{width}}  {text}")
     times = stage_times(args.out)
     if times:
-        print("  wall time per stage (steps: sum of step times / first start → last end):")
-        for stage, (count, total, span) in times.items():
-            print(f"    {stage:<24} {count:>2} × {total:8.1f} s / {span:8.1f} s")
+        print("  time per stage: steps, sum of their wall times, first start → last end, CPU (user + system)")
+        for stage, (count, total, span, cpu) in times.items():
+            cpu_text = "" if cpu is None else f" {cpu:8.1f} s CPU"
+            print(f"    {stage:<24} {count:>2} {total:8.1f} s {span:8.1f} s{cpu_text}")
     results = [os.path.join(args.out, path) for path in
                (f"{args.name}.glb", f"{args.name}.png", "previews/animation.glb", "previews/contact_sheet.png")]
     pngs = []
-    for directory, _, files in os.walk(args.out):
+    for directory, folders, files in os.walk(args.out):
+        if "capture.json" in files:  # a capture folder inside OUT (demo.sh) is input, not a preview
+            folders[:] = []
+            continue
+        folders.sort()
         pngs += [os.path.join(directory, f) for f in files if f.endswith(".png") and not f.startswith(".")]
     print("  results:", ", ".join(path for path in results if os.path.exists(path)) or "none yet")
     print("  previews:", ", ".join(sorted(set(pngs) - set(results))) or "none")
     if args.json:
-        figures["stage_seconds"] = {stage: {"steps": c, "sum_s": t, "wall_s": s} for stage, (c, t, s) in times.items()}
+        figures["stage_seconds"] = {stage: {"steps": c, "sum_s": t, "wall_s": s, "cpu_s": u}
+                                    for stage, (c, t, s, u) in times.items()}
         with open(args.json, "w", encoding="utf-8") as handle:
             json.dump(figures, handle, indent=2, sort_keys=True)
 
