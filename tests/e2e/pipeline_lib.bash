@@ -8,7 +8,7 @@ pipeline_require_tools() {  # the stages every pipeline test needs
   for tool in surfcap-synth surfcap-align surfcap-learn surfcap-precompute; do
     [[ -x $build/tools/$tool ]] || { echo "SKIP: $tool is not built"; exit 77; }
   done
-  command -v make >/dev/null && command -v python3 >/dev/null || { echo "SKIP: needs make and python3"; exit 77; }
+  if ! command -v make >/dev/null || ! command -v python3 >/dev/null; then echo "SKIP: needs make and python3"; exit 77; fi
 }
 
 # The targets the built tools can make: everything once surfcap-precompute has `transitions`
