@@ -47,6 +47,22 @@ print("export:", content["file_bytes"], "bytes,", content["morph_targets"], "mor
       "%.3f s" % report["timings_s"]["write"])
 PY
   files+=("$work/character.glb")
+  # The same command gives the same bytes (the options, output path included, are the provenance).
+  cp "$work/character.glb" "$work/first.glb"
+  "$export_tool" --database "$database" --graph "$work/out/graph.json" --output "$work/character.glb" \
+    --report "$work/export.json" > /dev/null 2>&1
+  cmp "$work/character.glb" "$work/first.glb"
+  # Documented exit codes.
+  set +e
+  "$export_tool" --database "$database" --graph "$work/out/graph.json" --output "$work/character.txt" 2> /dev/null
+  [[ $? -eq 2 ]] || { echo "an --output that is not .glb must exit 2"; exit 1; }
+  "$export_tool" --database "$work/missing.json" --graph "$work/out/graph.json" --output "$work/x.glb" 2> /dev/null
+  [[ $? -eq 4 ]] || { echo "a missing database must exit 4"; exit 1; }
+  head -c 1000 "$work/character.glb" > "$work/truncated.glb"
+  "$build/tools/surfcap-play" --character "$work/truncated.glb" --script "$source/configs/control/tiny_timeline.json" \
+    --output "$work/bad" 2> "$work/err"
+  [[ $? -eq 3 ]] && grep -q "truncated.glb" "$work/err" || { echo "a truncated character must exit 3 naming it"; exit 1; }
+  set -e
   play=$build/tools/surfcap-play
   if [[ -x $play ]]; then
     if "$play" --threads 2 --character "$work/character.glb" --script "$source/configs/control/tiny_timeline.json" --output "$work/play" > "$work/play.log" 2>&1; then

@@ -50,6 +50,14 @@ data = open(out + "/transitions/locomotion__jump.npy", "rb").read()
 header_length = struct.unpack("<H", data[8:10])[0]
 values = struct.unpack("<%df" % (rows * cols), data[10 + header_length:])
 assert min(values) >= 0 and max(values) <= 1 and abs(min(values)) < 1e-6, (min(values), max(values))
+# Shape + motion: walking is closer to the jump's ground phases (take-off, landing) than to its apex.
+T = spaces["jump"]["frames"]
+per_frame = [0.0] * T
+for k, value in enumerate(values):
+    per_frame[(k % cols) % T] += value
+ground = (sum(per_frame[:3]) + sum(per_frame[-3:])) / 6
+apex = sum(per_frame[T // 2 - 1:T // 2 + 2]) / 3
+assert ground > apex * 1.2, (ground, apex)
 PY
 
 # Export (surfcap-export, from the asset module) when built; else play from the build outputs.
@@ -79,9 +87,15 @@ for t in report["transitions"]:
 glb = open(play + "/animation.glb", "rb").read()
 assert glb[:4] == b"glTF", glb[:4]
 assert open(play + "/contact_sheet.png", "rb").read()[:4] == b"\x89PNG"
-print("runtime_tiny: %d frames, transitions %s, max error vs exact %.2f mm (ε %.1f mm), %.1f µs per frame"
-      % (report["frames"], spaces, check["max_error_mm"], check["tolerance_mm"], 1e6 * report["evaluation_per_frame_s"]))
+print("runtime_tiny: %d frames, transitions %s, max error vs exact %.2f mm (ε %.1f mm), %.1f µs CPU per frame"
+      % (report["frames"], spaces, check["max_error_mm"], check["tolerance_mm"], 1e6 * report["evaluation_cpu_per_frame_s"]))
 PY
+
+# Same inputs, other thread count: the same animation and contact sheet, byte for byte.
+"$tools/surfcap-play" --threads 1 "${character[@]}" --script "$source/configs/control/tiny_timeline.json" \
+  --output "$work/play1" >> "$work/log" 2>&1
+cmp "$work/play/animation.glb" "$work/play1/animation.glb"
+cmp "$work/play/contact_sheet.png" "$work/play1/contact_sheet.png"
 
 # Bad input and bad arguments: the documented exit codes, the file named.
 set +e
@@ -98,6 +112,16 @@ echo '{"format": "surfcap.control/1", "duration_s": 1, "start": {"space": "jump"
 "$tools/surfcap-precompute" transitions --database "$database" --graph "$graph_config" --output "$work/out" \
   --edge jump:nowhere
 [[ $? -eq 2 ]] || { echo "undeclared --edge must exit 2"; exit 1; }
+python3 - "$work/out/graph.json" "$work/out/bad_graph.json" <<'PY'
+import json, sys
+graph = json.load(open(sys.argv[1]))
+graph["spaces"][0]["sequences"][0]["name"] = "nope"
+json.dump(graph, open(sys.argv[2], "w"))
+PY
+"$tools/surfcap-play" --database "$database" --graph "$work/out/bad_graph.json" \
+  --script "$source/configs/control/tiny_timeline.json" --output "$work/bad" 2> "$work/err"
+[[ $? -eq 3 ]] || { echo "a space over a missing sequence must exit 3"; exit 1; }
+grep -q "bad_graph.json" "$work/err" || { echo "the error must name graph.json"; cat "$work/err"; exit 1; }
 rm "$work/out/transitions/jump__locomotion.npy"
 "$tools/surfcap-play" --database "$database" --graph "$work/out/graph.json" \
   --script "$source/configs/control/tiny_timeline.json" --output "$work/bad" 2> "$work/err"

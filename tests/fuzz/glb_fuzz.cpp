@@ -1,5 +1,7 @@
 // libFuzzer target: asset::read_character_glb on arbitrary bytes. What the reader accepts must be
 // a usable character: every frame, reference and index within the template's vertex count.
+#include <vector>
+
 #include "fuzz_support.hpp"
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/core/error.hpp"
@@ -33,7 +35,13 @@ void check(const surfcap::asset::Character& c) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const auto path = surfcap::fuzz::scratch_file(data, size, ".glb");
+  // The header's total length is patched to the input size, so that mutations that grow or shrink
+  // the input reach the chunks and the JSON instead of stopping at the length check (which the
+  // unit tests cover).
+  std::vector<std::uint8_t> bytes(data, data + size);
+  if (size >= 12)
+    for (int k = 0; k < 4; ++k) bytes[8 + k] = static_cast<std::uint8_t>((size >> (8 * k)) & 0xFF);
+  const auto path = surfcap::fuzz::scratch_file(bytes.data(), bytes.size(), ".glb");
   try {
     check(surfcap::asset::read_character_glb(path));
   } catch (const surfcap::core::Error&) {

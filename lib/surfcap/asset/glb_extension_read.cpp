@@ -113,6 +113,8 @@ void read_displacements(const core::Json& json, const GlbAccessors& accessors, l
   const auto indices = checked_indices(stored_vertices, vertices, accessors, what);
   space.displacement_vertices.assign(indices.begin(), indices.end());
   space.displacement_values = read_optional<std::uint16_t>(accessors, json, "values", u16, TINYGLTF_TYPE_VEC3, stored, what);
+  for (const std::uint16_t half : space.displacement_values)
+    if ((half & 0x7C00) == 0x7C00) throw core::bad_input(source, what + ": NaN or infinite float16 value");
   space.displacement_threshold_m = core::get_field<double>(json, "thresholdM", source);
 }
 

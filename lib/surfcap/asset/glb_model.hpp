@@ -4,8 +4,10 @@
 // of a loaded one with every bound and shape checked.
 #include <tiny_gltf.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -70,6 +72,10 @@ class GlbAccessors {
     const Span span = locate(index, component_type, type, count, what, normalized, sizeof(T));
     std::vector<T> values(span.components);
     if (span.components > 0) std::memcpy(values.data(), bin_.data() + span.offset, span.components * sizeof(T));
+    if constexpr (std::is_floating_point_v<T>)
+      for (const T value : values)
+        if (!std::isfinite(value))
+          throw core::bad_input(source_, what + " (accessor " + std::to_string(index) + "): NaN or infinite value");
     return values;
   }
   /// Element count of accessor `index` (bad_input if there is none).

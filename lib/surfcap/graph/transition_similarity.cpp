@@ -105,15 +105,26 @@ TransitionSimilarity transition_similarity(const blend::StoredSpace& from, const
   TransitionSimilarity result;
   result.rows = a.rows();
   result.cols = b.rows();
-  // Gram form ‖a − b‖² = ‖a‖² + ‖b‖² − 2 a·b, the Gram matrix A·Bᵀ accumulated over fixed slices of
-  // the features: each slice is one GEMM whose k-extent is below Eigen's blocking, so every entry
-  // is summed in the same order whatever the thread count (byte-identical outputs).
-  constexpr long kSlice = 256;
-  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(result.rows, result.cols);
-  for (long k = 0; k < a.cols(); k += kSlice) {
-    const long width = std::min(kSlice, a.cols() - k);
-    gram.noalias() += a.middleCols(k, width) * b.middleCols(k, width).transpose();
-  }
+  // Gram form ‖a − b‖² = ‖a‖² + ‖b‖² − 2 a·b. The Gram matrix A·Bᵀ is computed in 4×4 tiles over
+  // fixed 2,048-wide slices of the features, each tile a GEMM too small for Eigen to thread (one
+  // panel of nr columns), the tiles of a row block in parallel: every entry is summed in the same
+  // order whatever the thread count, so the bytes are the same.
+  constexpr long kTile = 4, kSlice = 2048;
+  Eigen::MatrixXd gram(result.rows, result.cols);
+  const long blocks = (result.rows + kTile - 1) / kTile;
+  core::parallel_for(blocks, options.threads, [&](long block) {
+    const long first = block * kTile, count = std::min(kTile, result.rows - first);
+    Eigen::MatrixXd local = Eigen::MatrixXd::Zero(count, result.cols);
+    for (long k = 0; k < a.cols(); k += kSlice) {
+      const long width = std::min(kSlice, a.cols() - k);
+      const auto rows = a.block(first, k, count, width);
+      for (long j = 0; j < result.cols; j += kTile) {
+        const long columns = std::min(kTile, result.cols - j);
+        local.middleCols(j, columns).noalias() += rows * b.block(j, k, columns, width).transpose();
+      }
+    }
+    gram.middleRows(first, count) = local;
+  });
   Eigen::MatrixXd distance(result.rows, result.cols);
   for (long i = 0; i < result.rows; ++i)
     for (long j = 0; j < result.cols; ++j)

@@ -1,7 +1,7 @@
 #include "surfcap/runtime/controller.hpp"
 
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
 
@@ -12,7 +12,12 @@
 namespace surfcap::runtime {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+/// CPU time of the calling thread (seconds): what the runtime costs, whatever else the machine runs.
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
 
 /// Angle of a ground vector in the R_y convention (R_y(a)·(1, 0) = (cos a, −sin a)).
 double ground_angle(const Eigen::Vector2d& v) { return std::atan2(-v(1), v(0)); }
@@ -104,7 +109,7 @@ void Controller::begin_transition(int to, const std::vector<double>& parameters,
     const double step = target_space.frames_per_step(u.data(), fps_);
     candidates.push_back(std::min<double>(target_space.frames() - 1, planner->options().depth * step));
   }
-  const auto start = Clock::now();
+  const double start = thread_cpu_seconds();
   TransitionPlan best;
   double best_cost = std::numeric_limits<double>::infinity();
   for (double frame : candidates) {
@@ -115,7 +120,7 @@ void Controller::begin_transition(int to, const std::vector<double>& parameters,
     }
   }
   TransitionRecord record;
-  record.planning_s = std::chrono::duration<double>(Clock::now() - start).count();
+  record.planning_s = thread_cpu_seconds() - start;
   record.frame = current_.index;
   record.from = character_->spaces[current_.state.space].name;
   record.to = target_space.space().name;
@@ -147,10 +152,10 @@ void Controller::follow_waypoints() {
     return;
   }
   // Steer: turn the heading towards the waypoint at no more than turn_rate.
-  std::vector<double> u(current_.state.parameters.size());
-  space.weight_coordinates(current_.state.parameters.data(), u.data());
+  double u[3];
+  space.weight_coordinates(current_.state.parameters.data(), u);
   const double frame = current_.state.frame;
-  const Eigen::Vector3d ahead = space.root_step(frame, frame + space.frames() / 2.0, u.data());
+  const Eigen::Vector3d ahead = space.root_step(frame, frame + space.frames() / 2.0, u);
   if (ahead.head<2>().norm() < 1e-6) return;
   const Eigen::Vector2d heading = rotate_ground(ahead.head<2>(), current_.heading);
   const double error = std::remainder(ground_angle(to) - ground_angle(heading), 2 * M_PI);
@@ -161,19 +166,19 @@ void Controller::follow_waypoints() {
 void Controller::advance() {
   MotionState next = current_.state;
   const SpaceEvaluator* space = evaluators_[next.space].get();
-  std::vector<double> u(8);
+  double u[3];
   Eigen::Vector3d delta;
   if (path_next_ < path_.size()) {
     next = path_[path_next_++];
     space = evaluators_[next.space].get();
-    space->weight_coordinates(next.parameters.data(), u.data());
+    space->weight_coordinates(next.parameters.data(), u);
     double previous = current_.state.frame;
     if (next.space != current_.state.space) {
       // The switch itself moves the root as the target space moves into its first path frame.
-      previous = next.frame - space->frames_per_step(u.data(), fps_);
+      previous = next.frame - space->frames_per_step(u, fps_);
       if (!space->cyclic()) previous = std::max(0.0, previous);
     }
-    delta = space->root_step(previous, next.frame, u.data());
+    delta = space->root_step(previous, next.frame, u);
     current_.in_transition = true;
     parameter_target_ = next.parameters;
   } else {
@@ -183,10 +188,10 @@ void Controller::advance() {
                                                               space->parameter_min(static_cast<int>(a)));
       next.parameters[a] += std::clamp(parameter_target_[a] - next.parameters[a], -limit, limit);
     }
-    space->weight_coordinates(next.parameters.data(), u.data());
-    double frame = next.frame + space->frames_per_step(u.data(), fps_);
+    space->weight_coordinates(next.parameters.data(), u);
+    double frame = next.frame + space->frames_per_step(u, fps_);
     if (!space->cyclic()) frame = std::min(frame, space->frames() - 1.0);
-    delta = space->root_step(next.frame, frame, u.data());
+    delta = space->root_step(next.frame, frame, u);
     next.frame = space->wrap(frame);
   }
   const Eigen::Vector2d moved = rotate_ground(delta.head<2>(), current_.heading);
@@ -203,8 +208,7 @@ void Controller::advance() {
   }
   // A one-shot space returns where it was entered from, planned while the trellis still fits.
   if (path_.empty() && !space->cyclic() && return_space_ >= 0) {
-    std::vector<double> w(u.begin(), u.begin() + space->dimensions());
-    const double step = space->frames_per_step(w.data(), fps_);
+    const double step = space->frames_per_step(u, fps_);
     if (next.frame + script_->planner.depth * step >= space->frames() - 1 - 1e-9) {
       const int back = return_space_;
       return_space_ = -1;
@@ -214,7 +218,7 @@ void Controller::advance() {
 }
 
 void Controller::evaluate() {
-  const auto start = Clock::now();
+  const double start = thread_cpu_seconds();
   const SpaceEvaluator& space = *evaluators_[current_.state.space];
   current_.weights.resize(static_cast<std::size_t>(space.dimensions()));
   space.weight_coordinates(current_.state.parameters.data(), current_.weights.data());
@@ -232,7 +236,7 @@ void Controller::evaluate() {
     out[1] = p[1] + y;
     out[2] = -s * p[0] + c * p[2] + z;
   }
-  evaluation_s_ += std::chrono::duration<double>(Clock::now() - start).count();
+  evaluation_s_ += thread_cpu_seconds() - start;
 }
 
 const FrameState& Controller::step() {

@@ -32,7 +32,7 @@ struct TransitionRecord {
   double similarity = 0, similarity_cost = 0, latency_cost = 0;
   int frames = 0;          ///< E_L
   double latency_s = 0;    ///< E_L / fps
-  double planning_s = 0;   ///< CPU time of the plan
+  double planning_s = 0;   ///< CPU time (thread) of the plan
   long evaluated_pairs = 0;
 };
 
@@ -53,7 +53,7 @@ class Controller {
   const std::vector<float>& centred_positions() const { return centred_; }
   const std::vector<TransitionRecord>& transitions() const { return transitions_; }
   const SpaceEvaluator& evaluator(int space) const { return *evaluators_[space]; }
-  /// Seconds spent evaluating meshes (blend + world placement), over all frames so far.
+  /// Thread CPU seconds spent evaluating meshes (blend + world placement), over all frames so far.
   double evaluation_seconds() const { return evaluation_s_; }
 
  private:

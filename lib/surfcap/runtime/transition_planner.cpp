@@ -28,9 +28,18 @@ TransitionPlanner::TransitionPlanner(const SpaceEvaluator& from, const SpaceEval
   max_similarity_ = similarity.similarity.empty()
                         ? 1.0
                         : *std::max_element(similarity.similarity.begin(), similarity.similarity.end());
+  row_max_.assign(static_cast<std::size_t>(similarity.rows), 0.0f);
+  col_max_.assign(static_cast<std::size_t>(similarity.cols), 0.0f);
+  for (long i = 0; i < similarity.rows; ++i)
+    for (long j = 0; j < similarity.cols; ++j) {
+      const float value = similarity.at(i, j);
+      row_max_[i] = std::max(row_max_[i], value);
+      col_max_[j] = std::max(col_max_[j], value);
+    }
 }
 
-void TransitionPlanner::build_side(const SpaceEvaluator& space, const MotionState& state, bool forward, Side& side) const {
+void TransitionPlanner::build_side(const SpaceEvaluator& space, const MotionState& state, bool forward,
+                                   const std::vector<float>& best_of_entry, Side& side) const {
   const int d = space.dimensions(), T = space.frames();
   double u[3];
   space.weight_coordinates(state.parameters.data(), u);
@@ -92,7 +101,11 @@ void TransitionPlanner::build_side(const SpaceEvaluator& space, const MotionStat
       if (combo.depth > level) continue;
       Node node = combo;
       node.depth = level;
-      for (int e = 0; e < node.entries; ++e) node.index[e] = node.index[e] * T + key;
+      node.bound = 0;
+      for (int e = 0; e < node.entries; ++e) {
+        node.index[e] = node.index[e] * T + key;
+        node.bound += node.weight[e] * best_of_entry[node.index[e]];
+      }
       side.nodes.push_back(node);
     }
   }
@@ -101,8 +114,8 @@ void TransitionPlanner::build_side(const SpaceEvaluator& space, const MotionStat
 
 TransitionPlan TransitionPlanner::search(const MotionState& source, const MotionState& target, int& best_a,
                                          int& best_b) const {
-  build_side(*from_, source, true, source_side_);
-  build_side(*to_, target, false, target_side_);
+  build_side(*from_, source, true, row_max_, source_side_);
+  build_side(*to_, target, false, col_max_, target_side_);
   const Side& s = source_side_;
   const Side& t = target_side_;
   const float* matrix = similarity_->similarity.data();
@@ -118,10 +131,14 @@ TransitionPlan TransitionPlanner::search(const MotionState& source, const Motion
     if (lambda * L + floor_cost >= best) break;
     for (int ka = std::max(0, L - (t.levels - 1)); ka <= std::min(L, s.levels - 1); ++ka) {
       const int kb = L - ka;
+      const double latency = lambda * L;
       for (int a = s.depth_start[ka]; a < s.depth_start[ka + 1]; ++a) {
         const Node& na = s.nodes[a];
+        // s_lb ≤ the node's bound (convex weights of row maxima): skip what cannot win.
+        if (scale * (1.0 - na.bound) + latency >= best) continue;
         for (int b = t.depth_start[kb]; b < t.depth_start[kb + 1]; ++b) {
           const Node& nb = t.nodes[b];
+          if (scale * (1.0 - nb.bound) + latency >= best) continue;
           double similarity = 0;
           for (int i = 0; i < na.entries; ++i) {
             const float* row = matrix + na.index[i] * cols;
@@ -130,7 +147,7 @@ TransitionPlan TransitionPlanner::search(const MotionState& source, const Motion
             similarity += na.weight[i] * sum;
           }
           ++plan.evaluated_pairs;
-          const double cost = scale * (1.0 - similarity) + lambda * L;
+          const double cost = scale * (1.0 - similarity) + latency;
           if (cost < best) {
             best = cost;
             best_a = a;

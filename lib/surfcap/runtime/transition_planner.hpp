@@ -71,6 +71,7 @@ class TransitionPlanner {
     long index[8];
     double weight[8];
     double parameters[3];
+    double bound = 1;  // Σ weight · (best similarity of the entry's row/column): s ≤ bound
   };
   struct Side {
     std::vector<Node> nodes;       // sorted by depth
@@ -78,7 +79,8 @@ class TransitionPlanner {
     int levels = 0;                // deepest level + 1
     double step = 0;               // normalised frames per output frame
   };
-  void build_side(const SpaceEvaluator& space, const MotionState& state, bool forward, Side& side) const;
+  void build_side(const SpaceEvaluator& space, const MotionState& state, bool forward,
+                  const std::vector<float>& best_of_entry, Side& side) const;
   TransitionPlan search(const MotionState& source, const MotionState& target, int& best_a, int& best_b) const;
 
   const SpaceEvaluator* from_;
@@ -86,6 +88,7 @@ class TransitionPlanner {
   const asset::CharacterTransition* similarity_;
   PlannerOptions options_;
   double max_similarity_ = 1;
+  std::vector<float> row_max_, col_max_;  // best similarity per matrix row / column
   mutable Side source_side_, target_side_;
   mutable std::vector<Node> combos_;
   mutable std::vector<double> axis_values_[3];

@@ -2,6 +2,9 @@
 // glTF content (what viewers play) and the reader's refusals (exit 3 naming the file).
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/asset/glb_container.hpp"
 #include "surfcap/core/atomic_file.hpp"
@@ -28,7 +31,8 @@ asset::Character test_character() {
 
 template <class Matrix>
 bool identical(const Matrix& a, const Matrix& b) {
-  return a.rows() == b.rows() && a.cols() == b.cols() && (a.size() == 0 || a == b);
+  if (a.size() == 0 || b.size() == 0) return a.size() == b.size();  // absent: 0×0 and 0×3 alike
+  return a.rows() == b.rows() && a.cols() == b.cols() && a == b;
 }
 
 void expect_same_mesh(const core::Mesh& a, const core::Mesh& b) {
@@ -193,6 +197,25 @@ TEST(CharacterGlb, NonByteColoursAndDoublesAreStoredAsFloat32) {
   EXPECT_EQ(read.sequences[0].frames[0](0, 0), static_cast<double>(0.1f));
 }
 
+TEST(CharacterGlb, MinimalAndPartRestPoseCharactersRoundTrip) {
+  asset::Character minimal = test_character();
+  minimal.template_mesh.colors.resize(0, 3);
+  minimal.template_mesh.uvs.resize(0, 2);
+  minimal.texture_png.clear();
+  minimal.spaces.clear();
+  minimal.transitions.clear();
+  minimal.parts.reset();
+  minimal.sequences.resize(1);
+  expect_same_character(minimal, asset::parse_character_glb(asset::character_glb_bytes(minimal), "minimal.glb"));
+
+  asset::Character posed = test_character();
+  auto& rest = posed.parts->template_mesh.V;  // the parts' rest pose differs from the template
+  rest = (rest.array() + 0.25).cast<float>().cast<double>();
+  const std::string glb = asset::character_glb_bytes(posed);
+  EXPECT_TRUE(json_of(glb)["extensions"]["SURFCAP_motion_graph"]["parts"].contains("restPositions"));
+  expect_same_character(posed, asset::parse_character_glb(glb, "posed.glb"));
+}
+
 TEST(AnimationGlb, PlaysEveryFrameAsAMorphTarget) {
   testing::TemporaryDirectory dir("glb_animation");
   const core::Mesh mesh = testing::make_sphere(6, 8, 0.3);
@@ -235,6 +258,12 @@ TEST(CharacterGlb, RefusesTruncatedCorruptAndNewerFiles) {
   json = json_of(glb);
   json["accessors"][0]["count"] = 1 << 30;
   write_and_read(with_json(glb, json), "accessor beyond its bufferView");
+  std::string nan = glb;  // the first float of the BIN chunk (x of template vertex 0) → NaN
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const float not_a_number = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(nan.data() + 20 + json_length + 8, &not_a_number, 4);
+  write_and_read(nan, "NaN position");
   json = json_of(glb);
   json["buffers"][0]["uri"] = "/etc/passwd";
   write_and_read(with_json(glb, json), "external buffer");

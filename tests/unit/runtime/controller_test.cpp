@@ -70,9 +70,14 @@ TEST(Controller, PlaysATimelineThroughPlannedTransitionsAndReturnsFromOneShotSpa
   long frames = 0;
   std::vector<int> spaces;
   std::vector<float> expected(8 * 3);
+  Eigen::Vector3d previous_root = Eigen::Vector3d::Zero();
   while (!controller.done()) {
     const runtime::FrameState& frame = controller.step();
     EXPECT_EQ(frame.index, frames++);
+    // The character moves on continuously, also across transitions (≤ the fastest source's pace).
+    EXPECT_LE((frame.root - previous_root).head<1>().norm(), 0.08 * 1.6 + 1e-9) << "frame " << frame.index;
+    EXPECT_GE(frame.root(0), previous_root(0) - 1e-9);
+    previous_root = frame.root;
     spaces.push_back(frame.state.space);
     // The mesh is the space's hybrid blend at the frame's state, placed by the root motion.
     const runtime::SpaceEvaluator& space = controller.evaluator(frame.state.space);
