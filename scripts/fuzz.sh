@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan+UBSan, core and asset modules only) into build-fuzz/ and runs
+# Builds the libFuzzer targets (clang, ASan+UBSan, core, blend and asset modules only) into build-fuzz/ and runs
 # each for a bounded time from the seed corpus in tests/fuzz/corpus/<target>/.
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
 # Findings (crashing inputs) land in build-fuzz/findings/<target>/; the summary in
@@ -17,7 +17,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DSURFCAP_FUZZ=ON \
-  -DSURFCAP_MODULES="core;asset" -DSURFCAP_BUILD_TOOLS=OFF -DSURFCAP_BUILD_TESTS=OFF > build-fuzz.configure.log 2>&1 \
+  -DSURFCAP_MODULES="core;blend;asset" -DSURFCAP_BUILD_TOOLS=OFF -DSURFCAP_BUILD_TESTS=OFF > build-fuzz.configure.log 2>&1 \
   || { cat build-fuzz.configure.log; exit 1; }
 rm -f build-fuzz.configure.log
 targets=("$@")

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "surfcap/asset/glb_extension.hpp"
+#include "surfcap/blend/stored_space.hpp"
 
 namespace surfcap::asset::detail {
 
@@ -155,6 +156,7 @@ CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors,
   if (json.contains("parameterMap")) space.parameter_map = parameter_map_from(json["parameterMap"], space.dimensions, source);
   space.tolerance_mm = core::get_field<double>(json, "toleranceMm", source);
   space.max_error_mm = core::get_field<double>(json, "maxErrorMm", source);
+  blend::check_stored_space(space, source);  // the invariants space.json readers check too
   return space;
 }
 
