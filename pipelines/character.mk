@@ -43,14 +43,17 @@ TRANSITIONS_OPTIONS ?=
 EXPORT_OPTIONS ?=
 PLAY_OPTIONS ?=
 
+ifeq ($(strip $(OUT)),)
+$(error character.mk: OUT must not be empty)
+endif
+# summary, tidy and clean need only OUT; every other goal reads the inputs.
+INPUTS_NEEDED := $(if $(MAKECMDGOALS),$(filter-out summary tidy clean,$(MAKECMDGOALS)),all)
+ifneq ($(INPUTS_NEEDED),)
 ifeq ($(strip $(CAPTURE)),)
 $(error character.mk: set CAPTURE=<capture folder> (see docs/pipelines.md))
 endif
 ifeq ($(strip $(GRAPH)),)
 $(error character.mk: set GRAPH=<graph config>, e.g. $(SURFCAP)/configs/graphs/tiny.json)
-endif
-ifeq ($(strip $(OUT)),)
-$(error character.mk: OUT must not be empty)
 endif
 ifeq ($(wildcard $(CAPTURE)/capture.json),)
 $(error character.mk: $(CAPTURE)/capture.json does not exist)
@@ -58,12 +61,14 @@ endif
 ifeq ($(filter $(DATABASE),aligned truth),)
 $(error character.mk: DATABASE must be aligned or truth, not '$(DATABASE)')
 endif
+endif
 
 .DELETE_ON_ERROR:
 .SUFFIXES:
 .SECONDEXPANSION:
 
 # What the inputs say (read once, when make starts).
+ifneq ($(INPUTS_NEEDED),)
 plan = $(or $(shell $(PLAN) $(1) || echo PLAN-FAILED),PLAN-EMPTY)
 SEQUENCES := $(call plan,sequences $(CAPTURE))
 ROW_BLOCKS := $(subst :,-,$(call plan,blocks $(CAPTURE) $(BLOCKS)))
@@ -75,6 +80,7 @@ $(error character.mk: cannot read $(CAPTURE)/capture.json or $(GRAPH) (message a
 endif
 EDGES := $(filter-out PLAN-EMPTY,$(EDGES))
 CAPTURE_FILES := $(addprefix $(CAPTURE)/,$(CAPTURE_FILES))
+endif
 
 A := $(OUT)/aligned
 P := $(OUT)/parts
