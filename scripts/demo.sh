@@ -1,73 +1,49 @@
 #!/usr/bin/env bash
-# The whole demo on a fresh machine: set-up, a synthetic capture, the pipeline, a summary.
+# The whole demo on a fresh machine: set-up, a synthetic capture (surfcap-synth --preset demo),
+# the pipeline (pipelines/character.mk), then a summary: alignment error, blend errors,
+# transition costs, asset size, wall time per stage, and where the character and previews are.
 # Usage: scripts/demo.sh [OUT_DIR]   (default out/demo)
+# Environment:
+#   DATABASE=truth|aligned  which database the stages after alignment read (default truth: the
+#                           capture's ground truth, until alignment meets its accuracy bound —
+#                           docs/align.md "Status"; the alignment runs and is reported either way)
+#   JOBS (default nproc)    parallel make jobs; THREADS (default 2) threads per step
+#   SUBMIT                  command prefix of the heavy steps (e.g. "srun -c 2", docs/pipelines.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
-./scripts/setup.sh
 out=${1:-out/demo}
-bin=build/tools
+database=${DATABASE:-truth}
+jobs=${JOBS:-$(nproc)}
+threads=${THREADS:-2}
+
+# make and python3 drive the pipeline; the rest is scripts/setup.sh's.
+if ! command -v make >/dev/null || ! command -v python3 >/dev/null; then
+  sudo_cmd=()
+  [[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo)
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends make python3
+fi
+tools=(surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-export surfcap-play)
+./scripts/setup.sh "${tools[@]/#/--target=}"
+setup_s=$(( $(date +%s) - start ))
+
 rm -rf "$out"
 mkdir -p "$out"
-declare -A seconds
-run_stage() {  # run_stage NAME command...
-  local name=$1 t
-  shift
-  t=$(date +%s)
-  echo "demo: $name"
-  "$@"
-  seconds[$name]=$(( $(date +%s) - t ))
-}
+t=$(date +%s)
+echo "demo: surfcap-synth --preset demo"
+build/tools/surfcap-synth --preset demo --seed 1 --out "$out/capture" --log-level warn
+synth_s=$(( $(date +%s) - t ))
 
-run_stage synth "$bin/surfcap-synth" --preset demo --seed 1 --out "$out/capture" --log-level warn
-capture=$out/capture
-run_stage align.histograms "$bin/surfcap-align" histograms --capture "$capture" --out "$out/aligned" --log-level warn
-run_stage align.similarity "$bin/surfcap-align" similarity --out "$out/aligned" --log-level warn
-run_stage align.tree "$bin/surfcap-align" tree --out "$out/aligned" --log-level warn \
-  --ground-truth "$capture/ground_truth/database/database.json"
-
-run_stage align.register "$bin/surfcap-align" register --capture "$capture" --out "$out/aligned" --log-level warn
-# The alignment does not reach its accuracy bound yet (issue 5), so the later stages run on the
-# capture's true aligned database; set SURFCAP_DEMO_USE_ALIGNED=1 to use the registered one.
-database=$capture/ground_truth/database/database.json
-[[ ${SURFCAP_DEMO_USE_ALIGNED:-0} == 1 ]] && database=$out/aligned/database.json
-echo "demo: later stages read $database"
-run_stage learn "$bin/surfcap-learn" learn --database "$database" --parts configs/parts/human6.json \
-  --output "$out/parts" --log-level warn
-run_stage precompute.spaces "$bin/surfcap-precompute" spaces --database "$database" \
-  --graph configs/graphs/demo.json --output "$out/spaces" --log-level warn
+echo "demo: pipeline (make -j $jobs, $threads threads per step, later stages read the $database database)"
+t=$(date +%s)
+make --no-print-directory -f pipelines/character.mk -j "$jobs" CAPTURE="$out/capture" \
+  GRAPH=configs/graphs/demo.json OUT="$out" DATABASE="$database" THREADS="$threads" \
+  ${SUBMIT:+SUBMIT="$SUBMIT"} PLAY_OPTIONS="--check-exact 5" all alignment
+pipeline_s=$(( $(date +%s) - t ))
 
 echo
-echo "demo: summary"
-python3 - "$out" <<'PY'
-import json, os, sys
-out = sys.argv[1]
-def load(path):
-    path = os.path.join(out, path)
-    return json.load(open(path)) if os.path.exists(path) else None
-tree = load("aligned/report/similarity.json")
-if tree:
-    q = tree.get("quality", {})
-    print(f"  similarity tree: {tree['frames']} frames, root {tree['root']}, "
-          f"quality ratio {q.get('ratio', float('nan')):.3f} (true deformation along the tree / optimal)")
-alignment = load("aligned/report/alignment.json")
-if alignment and "ground_truth" in alignment:
-    g = alignment["ground_truth"]
-    print(f"  alignment: RMS vertex error {g['rms_percent_height']:.2f}% of height, worst frame "
-          f"{g['worst_frame']} {g['worst_frame_rms_percent_height']:.2f}%, mean residual "
-          f"{alignment['summary']['mean_residual_m'] * 1000:.2f} mm")
-learn = load("parts/report/learn.json")
-if learn:
-    parts = learn.get("parts", {})
-    print(f"  part models: {len(parts)} parts, basis vectors kept " +
-          ", ".join(f"{name} {part.get('kept')}" for name, part in sorted(parts.items())))
-spaces = load("spaces/report/spaces.json")
-for name, space in sorted((spaces or {}).get("spaces", {}).items()):
-    print(f"  motion space {name}: {space.get('references')} references, hybrid max error "
-          f"{space.get('checked_max_error_mm', float('nan')):.2f} mm at tolerance {space.get('tolerance_mm')} mm, "
-          f"{space.get('memory_bytes', 0) / 1e6:.1f} MB of displacement fields")
-PY
-for name in "${!seconds[@]}"; do echo "  $name: ${seconds[$name]} s"; done | sort
-echo "demo: finished in $(( $(date +%s) - start )) s. Previews and reports:"
-find "$out" \( -name '*.png' -o -name '*.glb' \) -not -path '*/images/*' 2>/dev/null | sort | head -30
-find "$out" -path '*report*' -name '*.json' | sort | head -20
+echo "demo: summary ($out)"
+python3 pipelines/summary.py "$out" --json "$out/report/summary.json"
+echo "  set-up ${setup_s} s, synth ${synth_s} s, pipeline ${pipeline_s} s; total $(( $(date +%s) - start )) s"
+echo "demo: the character is $out/character.glb (open it in Blender or https://gltf-viewer.donmccurdy.com),"
+echo "      its playback $out/previews/animation.glb and $out/previews/contact_sheet.png"

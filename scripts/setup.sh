@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages surfcap needs (only those missing) and builds Release into build/.
-# Usage: scripts/setup.sh [--benchmarks] [--sanitize] [--build-dir DIR] [--deps-only]
+# Usage: scripts/setup.sh [--benchmarks] [--sanitize] [--build-dir DIR] [--deps-only] [--target=NAME ...]
+#   --target=NAME  build only these targets (e.g. the executables demo.sh runs); default all
 # Environment: SURFCAP_JOBS (default: nproc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -8,12 +9,14 @@ cd "$(dirname "$0")/.."
 build_dir=build
 cmake_options=()
 build=1
+targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --benchmarks) cmake_options+=(-DSURFCAP_BUILD_BENCHMARKS=ON) ;;
     --sanitize) cmake_options+=(-DSURFCAP_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo) ;;
     --build-dir) build_dir="$2"; shift ;;
     --deps-only) build=0 ;;
+    --target=*) targets+=("${1#--target=}") ;;
     *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
   esac
   shift
@@ -49,4 +52,4 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSURFCAP_MODULES= "${cmak
   || { cat "$build_dir.configure.log"; exit 1; }
 rm -f "$build_dir.configure.log"
 echo "setup: building into $build_dir/ with $jobs jobs"
-cmake --build "$build_dir" -j "$jobs"
+cmake --build "$build_dir" -j "$jobs" ${targets[@]:+--target "${targets[@]}"}

@@ -51,7 +51,18 @@ for f in space.json references.npy warp.npy warp.png displacements.offsets.npy d
   displacements.values.npy; do
   cmp "$work/out/spaces/locomotion/$f" "$work/shard/spaces/locomotion/$f"
 done
+# The other space as a second job (no graph.json from either), then `graph`: the same graph.json
+# as the all-at-once run.
+"$precompute" --threads 1 spaces --database "$database" --graph "$source/configs/graphs/tiny.json" \
+  --output "$work/shard" --space jump --no-graph --sweep-mm 5 20 --validation-samples 4
+[[ ! -e $work/shard/graph.json ]] || { echo "one space of two (or --no-graph) wrote graph.json"; exit 1; }
+"$precompute" graph --database "$database" --graph "$source/configs/graphs/tiny.json" --output "$work/shard"
 cmp "$work/out/graph.json" "$work/shard/graph.json"
+rm "$work/shard/spaces/jump/space.json"
+set +e
+"$precompute" graph --database "$database" --graph "$source/configs/graphs/tiny.json" --output "$work/shard" 2> /dev/null
+[[ $? -eq 4 ]] || { echo "graph with a space missing must exit 4"; exit 1; }
+set -e
 
 # Bad arguments and bad input give the documented exit codes.
 set +e

@@ -79,7 +79,7 @@ void register_frames(const RegisterCommands::State& state, const core::ToolApp& 
   }
   registration.database.provenance = {{"tool", "surfcap-align register"},
                                       {"version", std::string(core::version())},
-                                      {"options", app.options_json()},
+                                      {"options", app.provenance_json()},
                                       {"alignment", options.pairwise.to_json()},
                                       {"inputs", {{"capture", capture_path}, {"tree", (out / "similarity" / "tree.json").string()}}}};
   {

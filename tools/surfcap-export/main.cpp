@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
       character = asset::assemble_character(inputs);
     }
     character.provenance = {{"tool", "surfcap-export"}, {"version", std::string(core::version())},
-                            {"options", app.options_json()}, {"character", character.provenance}};
+                            {"options", app.provenance_json()}, {"character", character.provenance}};
     asset::GlbSummary summary;
     {
       auto timer = report.time("write");

@@ -12,6 +12,8 @@ using Command = std::pair<CLI::App*, std::function<void()>>;
 
 /// `spaces`: parametric motion spaces (time warps, hybrid displacement fields, parameter maps).
 Command add_spaces_command(core::ToolApp& app);
+/// `graph`: graph.json from spaces built one per job (`spaces --space NAME --no-graph`).
+Command add_graph_command(core::ToolApp& app);
 /// `compare`: casas2011 Table 1 for two poses (linear / hybrid 1 / hybrid 3 vs exact).
 Command add_compare_command(core::ToolApp& app);
 /// `transitions`: similarity matrices between connected spaces (casas2013 §3.2).

@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   app.cli().require_subcommand(1);
   std::vector<surfcap::tools::Command> commands;
   commands.push_back(surfcap::tools::add_spaces_command(app));
+  commands.push_back(surfcap::tools::add_graph_command(app));
   commands.push_back(surfcap::tools::add_compare_command(app));
   commands.push_back(surfcap::tools::add_transitions_command(app));
   return app.run(argc, argv, [&] {

@@ -22,8 +22,19 @@ struct SpacesArguments {
   std::string output;
   std::vector<std::string> spaces;
   std::string report;
+  bool no_graph = false;
   blend::MotionSpaceOptions options;
 };
+
+struct GraphArguments {
+  std::string database;
+  std::string graph;
+  std::string output;
+};
+
+core::Json graph_provenance(const std::string& database, const std::string& graph) {
+  return {{"tool", "surfcap-precompute"}, {"version", core::version()}, {"database", database}, {"graph_config", graph}};
+}
 
 void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
   blend::MotionSpaceOptions options = arguments.options;
@@ -65,11 +76,11 @@ void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
                  config_space->name, space.hybrid->reference_count(), space.hybrid->memory_bytes(),
                  1000 * space.hybrid->checked_max_error());
   }
-  const core::Json provenance = {{"tool", "surfcap-precompute spaces"}, {"version", core::version()},
-                                 {"database", arguments.database}, {"graph_config", arguments.graph}};
-  const bool complete = blend::write_graph(output, config, provenance);
+  const bool complete =
+      !arguments.no_graph && blend::write_graph(output, config, graph_provenance(arguments.database, arguments.graph));
   report.figures()["graph_written"] = complete;
-  if (!complete) spdlog::info("graph.json not written yet: other spaces of the config are still missing");
+  if (!complete && !arguments.no_graph)
+    spdlog::info("graph.json not written yet: other spaces of the config are still missing");
   std::string report_path = arguments.report;
   if (report_path.empty()) {
     std::string suffix;
@@ -77,6 +88,19 @@ void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
     report_path = (output / "report" / ("spaces" + suffix + ".json")).string();
   }
   report.write(report_path);
+}
+
+void run_graph(const GraphArguments& arguments) {
+  const blend::GraphConfig config = blend::read_graph_config(arguments.graph);
+  const std::filesystem::path output(arguments.output);
+  for (const blend::SpaceConfig& space : config.spaces) {
+    const auto path = output / "spaces" / space.name / "space.json";
+    if (!std::filesystem::exists(path))
+      throw core::io_error(path, "missing: run `surfcap-precompute spaces --space " + space.name + "` first");
+  }
+  blend::write_graph(output, config, graph_provenance(arguments.database, arguments.graph));
+  spdlog::info("{} spaces, {} transitions → {}", config.spaces.size(), config.transitions.size(),
+               (output / "graph.json").string());
 }
 
 }  // namespace
@@ -90,6 +114,8 @@ Command add_spaces_command(core::ToolApp& app) {
   command->add_option("--space", arguments->spaces, "Only these spaces (repeatable); default: all")->take_all();
   command->add_option("--report", arguments->report,
                       "Report JSON; default <output>/report/spaces[_<space>...].json");
+  command->add_flag("--no-graph", arguments->no_graph,
+                    "Do not write graph.json (a pipeline runs `graph` once every space is built)");
   auto& o = arguments->options;
   command->add_option("--sample-step", o.sample_step, "Parameter-map sampling step per axis")->capture_default_str();
   command->add_option("--checks-per-interval", o.checks_per_interval,
@@ -103,6 +129,18 @@ Command add_spaces_command(core::ToolApp& app) {
   command->add_option("--sweep-mm", o.sweep_tolerances_mm, "Tolerances (mm) of the memory/error sweep")
       ->capture_default_str();
   return {command, [&app, arguments] { run_spaces(app, *arguments); }};
+}
+
+Command add_graph_command(core::ToolApp& app) {
+  auto arguments = std::make_shared<GraphArguments>();
+  CLI::App* command =
+      app.cli().add_subcommand("graph", "Write graph.json from the spaces `spaces --space` built one by one");
+  command->add_option("--database", arguments->database, "Aligned database the spaces were built from (provenance)")
+      ->required();
+  command->add_option("--graph", arguments->graph, "Graph config (configs/graphs/*.json)")->required();
+  command->add_option("--output,-o", arguments->output, "Output directory holding spaces/<name>/space.json")
+      ->required();
+  return {command, [arguments] { run_graph(*arguments); }};
 }
 
 }  // namespace surfcap::tools

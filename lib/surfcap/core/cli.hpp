@@ -32,8 +32,11 @@ class ToolApp {
 
   CLI::App& cli() { return app_; }
   const CommonOptions& common() const { return common_; }
-  /// The effective options (command line + config + defaults) as JSON, for provenance.
+  /// The effective options (command line + config + defaults) as JSON, for reports.
   Json options_json() const;
+  /// options_json() without those that cannot change an output (--threads, logging): what
+  /// output files record as provenance, so their bytes do not depend on the thread count.
+  Json provenance_json() const;
 
   /// Parses the command line, configures logging and threads, then runs `body`. Returns the
   /// process exit code: 0 ok (and --help/--version), 2 bad arguments, and for a thrown

@@ -41,7 +41,9 @@ void learn_space(const Eigen::MatrixXd& data, const LearnOptions& options, PartM
   const Eigen::Index F = data.rows();
   model.mean = data.colwise().mean().transpose();
   const Eigen::MatrixXd centred = data.rowwise() - model.mean.transpose();
-  const Eigen::MatrixXd gram = centred * centred.transpose();
+  // lazyProduct: coefficient by coefficient, so the sums do not depend on Eigen's thread count
+  // (its blocked parallel GEMM rounds differently with --threads).
+  const Eigen::MatrixXd gram = centred.lazyProduct(centred.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
   const Eigen::VectorXd values = eigen.eigenvalues().reverse().cwiseMax(0.0);
   const Eigen::MatrixXd vectors = eigen.eigenvectors().rowwise().reverse();
