@@ -76,8 +76,7 @@ core::Json alignment_figures(const Registration& registration) {
                           {"failure", attempt.failure}});
     retried += record.failed_attempts.empty() ? 0 : 1;
     unrecovered += record.unrecovered ? 1 : 0;
-    frames.push_back({{"failed_attempts", attempts},
-                      {"unrecovered", record.unrecovered},{"sequence", record.sequence},
+    frames.push_back({{"sequence", record.sequence},
                       {"frame", record.frame},
                       {"node", record.node},
                       {"parent", record.parent},
@@ -90,6 +89,8 @@ core::Json alignment_figures(const Registration& registration) {
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
                       {"image_features", record.features},
+                      {"failed_attempts", attempts},
+                      {"unrecovered", record.unrecovered},
                       {"seconds", record.seconds},
                       {"timings_s", {{"matching", a.timings.matching}, {"factorisation", a.timings.factorisation},
                                      {"solves", a.timings.solves}}}});
