@@ -42,6 +42,7 @@ perl -MJSON::PP -e '
     $with_features++ if $fr->{correspondences}{feature} >= 10;
     die "frame $fr->{sequence}:$fr->{frame} residual too large\n" if $fr->{mean_residual_m} > 0.008;
     die "failed attempts not listed\n" unless ref $fr->{failed_attempts} eq "ARRAY";
+    die "no coverage figure\n" unless defined $fr->{uncovered_fraction};
   }
   die "SIFT matches on only $with_features frames\n" if $with_features < 0.9 * (@$frames - 1);
   die "no failure summary\n" unless defined $r->{summary}{frames_with_failed_attempts};

@@ -68,6 +68,9 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_option("--failure-residual-mm", state.failure_residual_mm,
                   "Mean residual above which a frame is re-aligned from its next most similar aligned frame")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-uncovered", options.max_uncovered,
+                  "Fraction of a reconstruction left uncovered by the aligned template above which a frame failed")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--retries", options.retries, "Alternative parents tried for a failed frame")->check(CLI::Range(0, 10));
   cmd->add_flag("--surface-model", surface_model, "Deform with a surface Laplacian instead of the tet volume");
   cmd->add_flag("--no-evaluation", no_evaluation, "Do not compare with ground_truth/ even if the capture has it");

@@ -73,6 +73,7 @@ core::Json alignment_figures(const Registration& registration) {
     core::Json attempts = core::Json::array();
     for (const auto& attempt : record.failed_attempts)
       attempts.push_back({{"parent", attempt.parent}, {"mean_residual_m", attempt.mean_residual},
+                          {"uncovered_fraction", attempt.uncovered_fraction},
                           {"failure", attempt.failure}});
     retried += record.failed_attempts.empty() ? 0 : 1;
     unrecovered += record.unrecovered ? 1 : 0;
@@ -83,6 +84,7 @@ core::Json alignment_figures(const Registration& registration) {
                       {"depth", record.depth},
                       {"mean_residual_m", a.mean_residual},
                       {"max_residual_m", a.max_residual},
+                      {"uncovered_fraction", a.uncovered_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints}}},
                       {"accepted_patches", a.accepted_patches},

@@ -288,6 +288,17 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   const Eigen::VectorXd distances = surface_distances(positions.topRows(surface_count), target);
   result.mean_residual = distances.mean();
   result.max_residual = distances.maxCoeff();
+  {
+    // Two-sided check: reconstruction vertices far from the aligned template are parts it missed
+    // (a limb collapsed onto another leaves one uncovered) — the one-sided residual cannot see that.
+    const geometry::SurfaceQuery aligned(positions.topRows(surface_count), F);
+    const double gate = options.uncovered_distance_edges * model.mean_edge();
+    long uncovered = 0;
+    for (long i = 0; i < target.vertices().rows(); ++i)
+      if (aligned.closest_point(target.vertices().row(i).transpose()).distance > gate) ++uncovered;
+    result.uncovered_fraction =
+        target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows()) : 0.0;
+  }
   result.timings.matching += seconds_since(start);
   result.positions = std::move(positions);
   return result;

@@ -38,6 +38,8 @@ struct PairwiseOptions {
   /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
   double feature_weight = 2.0;
   FeatureOptions features;
+  double uncovered_distance_edges = 1.5;  ///< a reconstruction vertex farther than this from the aligned
+                                          ///< template (template mean edges) is uncovered
   /// Throws bad_arguments naming the offending option.
   void validate() const;
   core::Json to_json() const;
@@ -79,6 +81,7 @@ struct PairwiseResult {
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
+  double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
   PairwiseTimings timings;
 };
 

@@ -183,6 +183,10 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         features[static_cast<std::size_t>(edge.child)] =
             detect_frame_features(capture, child.sequence, child.frame, query, options.pairwise.features);
       auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
+      // > 1: failed. The worse of the residual and the uncovered fraction, relative to their limits.
+      const auto failure_score = [&](const PairwiseResult& r) {
+        return std::max(r.mean_residual / options.failure_residual, r.uncovered_fraction / options.max_uncovered);
+      };
       // One attempt from `from`; nullopt (and a record of why) if it throws or fits badly.
       auto attempt = [&](long from) -> std::optional<PairwiseResult> {
         FrameFeatures other;  // an alternative parent's features were released with its depth
@@ -201,28 +205,35 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
                                                                 : positions[static_cast<std::size_t>(from)];
           PairwiseResult result = align_pair(model, parent, query, options.pairwise,
                                              target.has_colors() ? &target.colors : nullptr, pair);
-          if (result.mean_residual <= options.failure_residual) return result;
-          record.failed_attempts.push_back({from, result.mean_residual, "mean residual above the failure threshold"});
+          if (failure_score(result) <= 1) return result;
+          record.failed_attempts.push_back(
+              {from, result.mean_residual, result.uncovered_fraction,
+               result.mean_residual > options.failure_residual ? "mean residual above the failure threshold"
+                                                               : "reconstruction not covered by the aligned template"});
           return result;  // kept only if no retry does better
         } catch (const core::Error& error) {
-          record.failed_attempts.push_back({from, -1.0, error.what()});
+          record.failed_attempts.push_back({from, -1.0, 0.0, error.what()});
           return std::nullopt;
         }
       };
       std::optional<PairwiseResult> best = attempt(edge.parent);
       long best_parent = edge.parent;
-      if (!record.failed_attempts.empty() && options.costs != nullptr && !options.parent_surface) {
+      // A failure inherited from an unrecovered parent is reported, not retried (its alternatives
+      // were tried for the parent already).
+      const bool parent_failed = registration.frames[static_cast<std::size_t>(edge.parent)].unrecovered;
+      if (!record.failed_attempts.empty() && options.costs != nullptr && !options.parent_surface && !parent_failed) {
         // Next-best neighbours: frames of lower depth (already aligned), by similarity cost.
         std::vector<std::pair<double, long>> candidates;
         for (long other = 0; other < node_count; ++other)
-          if (other != edge.parent && other != edge.child && node_depth[static_cast<std::size_t>(other)] < edge.depth)
+          if (other != edge.parent && other != edge.child && node_depth[static_cast<std::size_t>(other)] < edge.depth &&
+              !registration.frames[static_cast<std::size_t>(other)].unrecovered)
             candidates.push_back({(*options.costs)(edge.child, other), other});
         std::sort(candidates.begin(), candidates.end());
         for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
           const long from = candidates[k].second;
           const std::size_t failures = record.failed_attempts.size();
           std::optional<PairwiseResult> retry = attempt(from);
-          if (retry && (!best || retry->mean_residual < best->mean_residual)) {
+          if (retry && (!best || failure_score(*retry) < failure_score(*best))) {
             best = std::move(retry);
             best_parent = from;
           }
@@ -236,7 +247,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       if (best_parent != edge.parent)
         spdlog::warn("{}:{}: alignment from its tree parent failed; aligned from node {} instead", record.sequence,
                      record.frame, best_parent);
-      record.unrecovered = best->mean_residual > options.failure_residual;
+      record.unrecovered = failure_score(*best) > 1;
       PairwiseResult result = std::move(*best);
       positions[static_cast<std::size_t>(edge.child)] = std::move(result.positions);
       result.positions.resize(0, 0);

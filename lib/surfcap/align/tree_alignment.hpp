@@ -39,10 +39,12 @@ struct RegisterOptions {
   DeformerOptions deformer;
   int threads = 0;  ///< ≤ 0: all hardware threads
   bool images = true;  ///< use camera-image features when the capture has images
-  /// Recoverable failures (issue 10): a child whose alignment throws (solver failure) or ends with a
-  /// mean residual above `failure_residual` (m) is aligned again from the next most similar frame
+  /// Recoverable failures (issue 10): a child whose alignment throws (solver failure), ends with a
+  /// mean residual above `failure_residual` (m) or leaves more than `max_uncovered` of its
+  /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) is aligned again from the next most similar frame
   /// already aligned (a lower depth, by `costs`), up to `retries` times; the best attempt is kept.
   double failure_residual = 0.004;
+  double max_uncovered = 1.0;  ///< or more than this fraction of the reconstruction is not covered (1: off)
   int retries = 2;
   const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
   /// Diagnostics: when set, every child is aligned from the template surface this returns for its
@@ -63,6 +65,7 @@ struct FrameRecord {
   struct Attempt {
     long parent = -1;
     double mean_residual = 0;  ///< < 0: the attempt threw
+    double uncovered_fraction = 0;
     std::string failure;       ///< why it was not good enough
   };
   std::vector<Attempt> failed_attempts;  ///< every attempt that failed (`parent` is the one kept)
