@@ -7,6 +7,9 @@
 #include <chrono>
 
 #include "../unit/align/deformable_shape.hpp"
+#include "../unit/align/textured_capture.hpp"
+#include "surfcap/align/feature_constraints.hpp"
+#include "surfcap/align/image_features.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 
 namespace {
@@ -45,5 +48,35 @@ void BM_PairwiseAlignment3k(benchmark::State& state) {
   state.counters["solves_s"] = solves / n;
 }
 BENCHMARK(BM_PairwiseAlignment3k)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// Image features of one frame seen by 8 cameras at 640×640 (detection + back-projection), and the
+// matching of two such frames (FLANN both ways, ratio, mutual, neighbour check), one core.
+void BM_FeatureDetectionAndMatching(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const align::testing::TexturedCapture scene("features_bench", 8, 640);
+  const geometry::SurfaceQuery parent_surface(scene.frames[0], scene.rest.F), child_surface(scene.frames[1], scene.rest.F);
+  const align::FeatureOptions options;
+  double detection = 0, matching = 0;
+  long iterations = 0, matches = 0, features = 0;
+  for (auto _ : state) {
+    auto start = std::chrono::steady_clock::now();
+    const align::FrameFeatures parent = align::detect_frame_features(scene.capture, 0, 0, parent_surface, options);
+    const align::FrameFeatures child = align::detect_frame_features(scene.capture, 0, 1, child_surface, options);
+    detection += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 2;
+    start = std::chrono::steady_clock::now();
+    const align::FeatureMatching found = align::feature_constraints(
+        scene.frames[0], scene.rest.F, parent, child, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), 0.01, 1.8, options);
+    matching += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    matches = static_cast<long>(found.constraints.size());
+    features = parent.size();
+    ++iterations;
+  }
+  const double n = static_cast<double>(iterations);
+  state.counters["features_per_frame"] = static_cast<double>(features);
+  state.counters["matches"] = static_cast<double>(matches);
+  state.counters["detection_per_frame_s"] = detection / n;
+  state.counters["matching_per_pair_s"] = matching / n;
+}
+BENCHMARK(BM_FeatureDetectionAndMatching)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # surfcap-align run end to end on the synth `tiny` capture: histograms → similarity → tree →
-# register; checks the aligned database against the capture's ground truth, the outputs and
-# reports, determinism across thread counts, and exit codes. The error bounds guard the level
-# reached today (RMS ≤ 4% of the height, worst frame ≤ 8%); the issue's target (0.5% / 2%) is not
-# met yet — see docs/align.md "Status".
+# register, with the camera images (SIFT features); checks the aligned database against the
+# capture's ground truth, the outputs and reports, determinism across thread counts, and exit
+# codes. The error bounds guard the level reached today (measured RMS 3.35% of the height, worst
+# frame 5.55%; bounds 3.8% / 6.5%); the issue's target (0.5% / 2%) is NOT met — see docs/align.md
+# "Status".
 set -euo pipefail
 build=$1
 synth=$build/tools/surfcap-synth
@@ -11,11 +12,11 @@ align=$build/tools/surfcap-align
 work=$(mktemp -d "${TMPDIR:-/tmp}/align_e2e.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
-"$synth" --preset tiny --no-images --out "$work/capture" --log-level warn
+"$synth" --preset tiny --out "$work/capture" --log-level warn
 "$align" run --capture "$work/capture" --out "$work/db" --threads 2 --log-level warn
 
 for f in database.json template.ply sequences/walk.npy sequences/walk.root.npy sequences/run.npy \
-         similarity/tree.json report/alignment.json report/alignment.png; do
+         similarity/tree.json report/alignment.json report/alignment.png report/truth_error.png; do
   [ -s "$work/db/$f" ] || { echo "missing $f"; exit 1; }
 done
 grep -q '"surfcap.database/1"' "$work/db/database.json"
@@ -26,24 +27,32 @@ perl -MJSON::PP -e '
   printf "RMS %.3f%% of height, worst frame %s %.3f%%\n", $g->{rms_percent_height}, $g->{worst_frame},
          $g->{worst_frame_rms_percent_height};
   printf "  depth %d: %.3f%%\n", $_->{depth}, $_->{rms_percent_height} for @{$g->{by_depth}};
-  die "RMS error above 4% of the height\n" if $g->{rms_percent_height} > 4.0;
-  die "worst frame above 8% of the height\n" if $g->{worst_frame_rms_percent_height} > 8.0;
+  die "RMS error above 3.8% of the height\n" if $g->{rms_percent_height} > 3.8;
+  die "worst frame above 6.5% of the height\n" if $g->{worst_frame_rms_percent_height} > 6.5;
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};
   die "root frame error above 0.2% (it is the template itself)\n" if $root->{rms_percent_height} > 0.2;
+  die "no error decomposition\n" unless defined $g->{tangential_rms_m} && defined $g->{by_region_rms_m}{"shirt.+x"};
   my $frames = $r->{frames};
   die "frame count\n" unless @$frames == 92;
+  my ($with_features, $slow) = (0, 0);
   for my $fr (@$frames) {
+    die "frame $fr->{sequence}:$fr->{frame} has no image features\n" unless $fr->{image_features} > 0;
     next if $fr->{parent} < 0;
     die "frame $fr->{sequence}:$fr->{frame} has no dense correspondences\n" unless $fr->{correspondences}{dense} > 0;
-    die "frame $fr->{sequence}:$fr->{frame} residual too large\n" if $fr->{mean_residual_m} > 0.005;
+    $with_features++ if $fr->{correspondences}{feature} >= 10;
+    die "frame $fr->{sequence}:$fr->{frame} residual too large\n" if $fr->{mean_residual_m} > 0.008;
+    die "failed attempts not listed\n" unless ref $fr->{failed_attempts} eq "ARRAY";
+    die "no coverage figure\n" unless defined $fr->{uncovered_fraction};
   }
+  die "SIFT matches on only $with_features frames\n" if $with_features < 0.9 * (@$frames - 1);
+  die "no failure summary\n" unless defined $r->{summary}{frames_with_failed_attempts};
 ' "$work/db/report/alignment.json"
 
 # Deterministic: registering again on one thread gives byte-identical arrays.
 mkdir -p "$work/db1/similarity"
-cp "$work/db/similarity/"{histograms.npy,histograms.json,tree.json} "$work/db1/similarity/"
+cp "$work/db/similarity/"{histograms.npy,histograms.json,matrix.npy,tree.json} "$work/db1/similarity/"
 "$align" register --out "$work/db1" --capture "$work/capture" --threads 1 --preview-frames 0 --log-level warn
-for f in sequences/walk.npy sequences/walk.root.npy sequences/run.npy template.ply; do
+for f in sequences/walk.npy sequences/walk.root.npy sequences/run.npy sequences/jump_high.npy template.ply; do
   cmp "$work/db/$f" "$work/db1/$f" || { echo "$f differs between thread counts"; exit 1; }
 done
 

@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <memory>
+#include <numeric>
 
 #include "surfcap/align/alignment_report.hpp"
 #include "surfcap/align/ground_truth_error.hpp"
@@ -27,6 +29,8 @@ struct RegisterCommands::State {
   align::RegisterOptions options;
   bool surface_model = false;
   bool no_evaluation = false;
+  bool edge_diagnostics = false;
+  double failure_residual_mm = 4;
   int preview_frames = 4;
   double preview_scale_mm = 10;
   similarity::ShapeHistogramOptions histogram;
@@ -35,8 +39,12 @@ struct RegisterCommands::State {
 
 namespace {
 
-void add_alignment_options(CLI::App* cmd, RegisterCommands* /*unused*/, align::RegisterOptions& options,
-                           bool& surface_model, bool& no_evaluation, int& preview_frames, double& preview_scale_mm) {
+void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
+  auto& options = state.options;
+  auto& surface_model = state.surface_model;
+  auto& no_evaluation = state.no_evaluation;
+  auto& preview_frames = state.preview_frames;
+  auto& preview_scale_mm = state.preview_scale_mm;
   auto& p = options.pairwise;
   cmd->add_option("--patches", p.initial_patches, "Rigid patches at the coarsest level (doubling per level)");
   cmd->add_option("--levels", p.levels, "Coarse-to-fine patch levels");
@@ -50,15 +58,71 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands* /*unused*/, align::R
                   "Correspondence gate at the coarsest level, fraction of the template height");
   cmd->add_option("--dense-distance", p.dense_distance_edges, "Dense-fit gate in template mean edge lengths");
   cmd->add_option("--color-sigma", p.color_sigma, "Photometric dense fit: colour σ (RGB 0..1; 0: geometry only)");
+  cmd->add_option("--feature-weight", p.feature_weight, "Weight of image feature matches (0: geometry only)");
+  cmd->add_option("--features-per-image", p.features.max_per_image, "Strongest SIFT keypoints kept per image");
+  cmd->add_option("--feature-ratio", p.features.ratio, "Ratio test of the feature matching");
+  cmd->add_flag("!--no-images", options.images, "Geometry only: ignore the capture's camera images");
   cmd->add_option("--heading-samples", p.heading_samples, "Headings tried when frames do not overlap rigidly");
   cmd->add_option("--interior-spacing", options.deformer.tetrahedra.interior_spacing_edges,
                   "Interior points of the tet mesh: grid spacing in template mean edges (≤ 0: none)");
+  cmd->add_option("--failure-residual-mm", state.failure_residual_mm,
+                  "Mean residual above which a frame is re-aligned from its next most similar aligned frame")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-uncovered", options.max_uncovered,
+                  "Fraction of a reconstruction left uncovered by the aligned template above which a frame failed")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--retries", options.retries, "Alternative parents tried for a failed frame")->check(CLI::Range(0, 10));
   cmd->add_flag("--surface-model", surface_model, "Deform with a surface Laplacian instead of the tet volume");
   cmd->add_flag("--no-evaluation", no_evaluation, "Do not compare with ground_truth/ even if the capture has it");
+  cmd->add_flag("--edge-diagnostics", state.edge_diagnostics,
+                "With ground truth: also align every child from its TRUE parent (each edge's own error)");
   cmd->add_option("--preview-frames", preview_frames, "Frames in report/alignment.png (0: none)")
       ->check(CLI::Range(0, 8));
   cmd->add_option("--preview-scale-mm", preview_scale_mm, "Residual mapped to red in the preview (mm)")
       ->check(CLI::PositiveNumber);
+}
+
+/// Every child aligned again from its true parent: the error each edge introduces on its own,
+/// beside the accumulated one (per frame, by depth, and the worst edges in the log).
+void add_edge_diagnostics(const core::Capture& capture, const similarity::HistogramSet& set,
+                          const align::AlignmentTree& tree, align::RegisterOptions options,
+                          const align::TruthReference& truth, const align::TruthEvaluation& accumulated,
+                          core::Json& per_frame, core::Json& figures) {
+  const std::vector<std::string>& labels = tree.nodes;
+  options.parent_surface = [&](long node) {
+    const std::string& label = labels[static_cast<std::size_t>(node)];
+    const auto colon = label.rfind(':');
+    return truth.positions(label.substr(0, colon), std::stoi(label.substr(colon + 1)));
+  };
+  const align::Registration isolated = align::register_capture(capture, set.frames, tree, options);
+  const align::TruthEvaluation own = align::evaluate_against_truth(truth, isolated);
+  std::vector<long> order;
+  for (std::size_t node = 0; node < own.frames.size(); ++node) {
+    per_frame[node]["edge_rms_m"] = own.frames[node].rms;
+    per_frame[node]["edge_tangential_rms_m"] = own.frames[node].tangential_rms;
+    order.push_back(static_cast<long>(node));
+  }
+  core::Json depth = core::Json::array();
+  for (const auto& [d, rms_at] : own.rms_by_depth) depth.push_back({{"depth", d}, {"edge_rms_m", rms_at}});
+  figures["ground_truth"]["edge_rms_m"] = own.rms;
+  figures["ground_truth"]["edge_by_depth"] = depth;
+  std::sort(order.begin(), order.end(), [&](long a, long b) {
+    return own.frames[static_cast<std::size_t>(a)].rms > own.frames[static_cast<std::size_t>(b)].rms;
+  });
+  spdlog::info("edges aligned from the true parent: RMS {:.2f} mm (accumulated {:.2f} mm); worst edges:",
+               1000 * own.rms, 1000 * accumulated.rms);
+  for (std::size_t k = 0; k < std::min<std::size_t>(20, order.size()); ++k) {
+    const long node = order[k];
+    const auto& record = isolated.frames[static_cast<std::size_t>(node)];
+    const auto true_at = [&](long n) { return options.parent_surface(n); };
+    const double motion = record.parent < 0 ? 0.0 : std::sqrt((true_at(node) - true_at(record.parent)).rowwise().squaredNorm().mean());
+    spdlog::info("  {} ← {} depth {}: edge {:.1f} mm (tangential {:.1f}; true motion {:.1f}), accumulated {:.1f} mm, heading {:.2f} rad",
+                 labels[static_cast<std::size_t>(node)],
+                 record.parent >= 0 ? labels[static_cast<std::size_t>(record.parent)] : std::string("-"), record.depth,
+                 1000 * own.frames[static_cast<std::size_t>(node)].rms,
+                 1000 * own.frames[static_cast<std::size_t>(node)].tangential_rms, 1000 * motion,
+                 1000 * accumulated.frames[static_cast<std::size_t>(node)].rms, record.alignment.heading_change);
+  }
 }
 
 void register_frames(const RegisterCommands::State& state, const core::ToolApp& app, core::StageReport& report) {
@@ -71,6 +135,15 @@ void register_frames(const RegisterCommands::State& state, const core::ToolApp& 
   align::RegisterOptions options = state.options;
   options.threads = app.common().threads;
   options.deformer.volumetric = !state.surface_model;
+  options.failure_residual = state.failure_residual_mm / 1000;
+  Eigen::MatrixXd costs;
+  if (std::filesystem::exists(similarity::matrix_path(out))) {
+    costs = similarity::read_matrix(out, set.histograms.rows()).cast<double>();
+    options.costs = &costs;
+  } else {
+    spdlog::warn("{} is missing: failed alignments cannot be retried from other frames",
+                 similarity::matrix_path(out).string());
+  }
   align::Registration registration;
   {
     auto timer = report.time("alignment");
@@ -90,13 +163,38 @@ void register_frames(const RegisterCommands::State& state, const core::ToolApp& 
   figures.update(align::alignment_figures(registration));
   if (!state.no_evaluation && align::ground_truth_file(capture)) {
     auto timer = report.time("ground_truth_error");
-    const align::TruthEvaluation evaluation = align::evaluate_against_truth(capture, registration);
+    const align::TruthReference truth(capture, registration.database);
+    const align::TruthEvaluation evaluation = align::evaluate_against_truth(truth, registration);
     figures["ground_truth"] = evaluation.to_json(registration);
     core::Json per_frame = core::Json::array();
-    for (const auto& frame : evaluation.frames) per_frame.push_back({{"rms_m", frame.rms}, {"max_m", frame.max}});
+    for (const auto& frame : evaluation.frames)
+      per_frame.push_back({{"rms_m", frame.rms}, {"max_m", frame.max}, {"normal_rms_m", frame.normal_rms},
+                           {"tangential_rms_m", frame.tangential_rms}});
+    if (state.edge_diagnostics) add_edge_diagnostics(capture, set, tree, options, truth, evaluation, per_frame, figures);
     figures["ground_truth"]["frames"] = per_frame;
-    spdlog::info("error against ground truth: RMS {:.2f} mm ({:.3f}% of {:.2f} m), worst frame {} {:.2f} mm ({:.3f}%)",
+    if (state.preview_frames > 0) {
+      // The frames worst against the truth, coloured by each vertex's true error.
+      std::vector<long> order(evaluation.frames.size());
+      std::iota(order.begin(), order.end(), 0L);
+      std::stable_sort(order.begin(), order.end(), [&](long a, long b) {
+        return evaluation.frames[static_cast<std::size_t>(a)].rms > evaluation.frames[static_cast<std::size_t>(b)].rms;
+      });
+      order.resize(std::min<std::size_t>(order.size(), static_cast<std::size_t>(state.preview_frames)));
+      std::vector<Eigen::VectorXd> errors;
+      for (const long node : order) {
+        const auto& record = registration.frames[static_cast<std::size_t>(node)];
+        errors.push_back((registration.world_positions[static_cast<std::size_t>(node)] -
+                          truth.positions(record.sequence, record.frame))
+                             .rowwise()
+                             .norm());
+      }
+      align::write_value_preview(out / "report" / "truth_error.png", registration, order, errors,
+                                 5 * state.preview_scale_mm / 1000, "from the true position");
+    }
+    spdlog::info("error against ground truth: RMS {:.2f} mm ({:.3f}% of {:.2f} m; normal {:.2f}, tangential {:.2f} mm), "
+                 "worst frame {} {:.2f} mm ({:.3f}%)",
                  1000 * evaluation.rms, 100 * evaluation.rms / evaluation.height, evaluation.height,
+                 1000 * evaluation.normal_rms, 1000 * evaluation.tangential_rms,
                  figures["ground_truth"]["worst_frame"].get<std::string>(), 1000 * evaluation.worst_frame_rms,
                  100 * evaluation.worst_frame_rms / evaluation.height);
   }
@@ -157,8 +255,7 @@ RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::
   s.register_cmd = cli.add_subcommand("register", "Non-rigid alignment along similarity/tree.json → database.json");
   s.register_cmd->add_option("--out", s.out, "Database folder holding similarity/ (written into)")->required();
   s.register_cmd->add_option("--capture", s.capture, "Capture folder (default: the one histograms.json names)");
-  add_alignment_options(s.register_cmd, this, s.options, s.surface_model, s.no_evaluation, s.preview_frames,
-                        s.preview_scale_mm);
+  add_alignment_options(s.register_cmd, s);
 
   s.run_cmd = cli.add_subcommand("run", "histograms → similarity → tree → register in one go");
   s.run_cmd->add_option("--capture", s.capture, "Capture folder (or its capture.json)")->required();
@@ -167,8 +264,7 @@ RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::
   s.run_cmd->add_option("--voxel-size", s.histogram.voxel_size, "Volume sampling grid spacing (m)");
   s.run_cmd->add_option("--window", s.similarity.temporal_window, "Temporal filter half-width k (frames)")
       ->check(CLI::Range(0, 50));
-  add_alignment_options(s.run_cmd, this, s.options, s.surface_model, s.no_evaluation, s.preview_frames,
-                        s.preview_scale_mm);
+  add_alignment_options(s.run_cmd, s);
 }
 
 RegisterCommands::~RegisterCommands() = default;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -66,8 +67,16 @@ core::Json alignment_figures(const Registration& registration) {
   double mean_sum = 0, worst = 0;
   long patch = 0, dense = 0, feature = 0;
   int max_depth = 0;
+  long retried = 0, unrecovered = 0;
   for (const auto& record : registration.frames) {
     const auto& a = record.alignment;
+    core::Json attempts = core::Json::array();
+    for (const auto& attempt : record.failed_attempts)
+      attempts.push_back({{"parent", attempt.parent}, {"mean_residual_m", attempt.mean_residual},
+                          {"uncovered_fraction", attempt.uncovered_fraction},
+                          {"failure", attempt.failure}});
+    retried += record.failed_attempts.empty() ? 0 : 1;
+    unrecovered += record.unrecovered ? 1 : 0;
     frames.push_back({{"sequence", record.sequence},
                       {"frame", record.frame},
                       {"node", record.node},
@@ -75,11 +84,15 @@ core::Json alignment_figures(const Registration& registration) {
                       {"depth", record.depth},
                       {"mean_residual_m", a.mean_residual},
                       {"max_residual_m", a.max_residual},
+                      {"uncovered_fraction", a.uncovered_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints}}},
                       {"accepted_patches", a.accepted_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
+                      {"image_features", record.features},
+                      {"failed_attempts", attempts},
+                      {"unrecovered", record.unrecovered},
                       {"seconds", record.seconds},
                       {"timings_s", {{"matching", a.timings.matching}, {"factorisation", a.timings.factorisation},
                                      {"solves", a.timings.solves}}}});
@@ -96,6 +109,8 @@ core::Json alignment_figures(const Registration& registration) {
                        {"mean_residual_m", mean_sum / count},
                        {"max_residual_m", worst},
                        {"max_depth", max_depth},
+                       {"frames_with_failed_attempts", retried},
+                       {"frames_unrecovered", unrecovered},
                        {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature}}},
                        {"deformer", registration.deformer_model},
                        {"volume_vertices", registration.volume_vertices},
@@ -121,6 +136,35 @@ std::vector<long> preview_nodes(const Registration& registration, int count) {
   return chosen;
 }
 
+namespace {
+
+void write_sheet(const std::filesystem::path& path, const std::vector<cv::Mat>& panels, double scale,
+                 const std::string& what) {
+  if (panels.empty()) return;
+  cv::Mat sheet;
+  cv::hconcat(panels, sheet);
+  cv::Mat bar(28, sheet.cols, CV_8UC3, cv::Scalar(255, 255, 255));
+  for (int x = 0; x < 200 && x + 10 < bar.cols; ++x)
+    cv::line(bar, cv::Point(10 + x, 4), cv::Point(10 + x, 14), heat_bgr(x / 199.0));
+  char legend[160];
+  std::snprintf(legend, sizeof legend, "0 .. %.1f mm %s", 1000 * scale, what.c_str());
+  cv::putText(bar, legend, cv::Point(220, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_8);
+  cv::vconcat(sheet, bar, sheet);
+  std::vector<std::uint8_t> bytes;
+  if (!cv::imencode(".png", sheet, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}))
+    throw core::io_error(path, "PNG encoding failed");
+  core::write_file_atomically(path, std::span(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size()));
+}
+
+std::string node_label(const FrameRecord& record, const char* what, double value) {
+  char label[160];
+  std::snprintf(label, sizeof label, "%s:%d depth %d %s %.1f mm", record.sequence.c_str(), record.frame, record.depth,
+                what, 1000 * value);
+  return label;
+}
+
+}  // namespace
+
 void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
                             const Registration& registration, const std::vector<long>& nodes, double scale) {
   const int size = 360;
@@ -136,25 +180,29 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
     const geometry::SurfaceQuery query(target.V, target.F);
     const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(node)];
     const Eigen::VectorXd values = surface_distances(V, query);
-    char label[160];
-    std::snprintf(label, sizeof label, "%s:%d depth %d mean %.1f mm", record.sequence.c_str(), record.frame,
-                  record.depth, 1000 * values.mean());
-    panels.push_back(render_panel(V, F, values, scale, size, label));
+    panels.push_back(render_panel(V, F, values, scale, size, node_label(record, "mean", values.mean())));
   }
-  if (panels.empty()) return;
-  cv::Mat sheet;
-  cv::hconcat(panels, sheet);
-  cv::Mat bar(28, sheet.cols, CV_8UC3, cv::Scalar(255, 255, 255));
-  for (int x = 0; x < 200 && x + 10 < bar.cols; ++x)
-    cv::line(bar, cv::Point(10 + x, 4), cv::Point(10 + x, 14), heat_bgr(x / 199.0));
-  char legend[96];
-  std::snprintf(legend, sizeof legend, "0 .. %.1f mm to the reconstruction", 1000 * scale);
-  cv::putText(bar, legend, cv::Point(220, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_8);
-  cv::vconcat(sheet, bar, sheet);
-  std::vector<std::uint8_t> bytes;
-  if (!cv::imencode(".png", sheet, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}))
-    throw core::io_error(path, "PNG encoding failed");
-  core::write_file_atomically(path, std::span(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size()));
+  write_sheet(path, panels, scale, "to the reconstruction");
+}
+
+void write_value_preview(const std::filesystem::path& path, const Registration& registration,
+                         const std::vector<long>& nodes, const std::vector<Eigen::VectorXd>& values, double scale,
+                         const std::string& what) {
+  const int size = 360;
+  std::vector<cv::Mat> panels;
+  const Eigen::MatrixXi& F = registration.database.template_mesh.F;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const auto& record = registration.frames[static_cast<std::size_t>(nodes[k])];
+    const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(nodes[k])];
+    const std::string label = node_label(record, "rms", std::sqrt(values[k].squaredNorm() / static_cast<double>(values[k].size())));
+    panels.push_back(render_panel(V, F, values[k], scale, size, label));
+    // Side view: rotate a quarter turn about the vertical axis through the centroid.
+    Eigen::MatrixXd side = V.rowwise() - V.colwise().mean();
+    side.col(0).swap(side.col(2));
+    side.col(0) *= -1;
+    panels.push_back(render_panel(side, F, values[k], scale, size, "side"));
+  }
+  write_sheet(path, panels, scale, what);
 }
 
 }  // namespace surfcap::align

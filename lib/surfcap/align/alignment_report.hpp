@@ -25,4 +25,10 @@ std::vector<long> preview_nodes(const Registration& registration, int count = 4)
 void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
                             const Registration& registration, const std::vector<long>& nodes, double scale);
 
+/// The same panels coloured by given per-vertex values (e.g. the error against ground truth),
+/// front and side views of each node; `what` labels the colour bar.
+void write_value_preview(const std::filesystem::path& path, const Registration& registration,
+                         const std::vector<long>& nodes, const std::vector<Eigen::VectorXd>& values, double scale,
+                         const std::string& what);
+
 }  // namespace surfcap::align

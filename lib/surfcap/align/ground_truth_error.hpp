@@ -4,6 +4,7 @@
 // the root reconstruction's correspondence (true face + barycentric). In every frame f the aligned
 // v should lie at Σ_k b_vk · X_f[F[face_v, k]], X_f the true world positions of frame f.
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -12,22 +13,51 @@
 
 #include "surfcap/align/tree_alignment.hpp"
 #include "surfcap/core/capture.hpp"
+#include "surfcap/core/database.hpp"
 #include "surfcap/core/json_document.hpp"
 
 namespace surfcap::align {
 
+/// The true locations of the template's vertices (the root reconstruction's) in any frame.
+class TruthReference {
+ public:
+  /// Reads <capture>/ground_truth/truth.json, the true database and the root's correspondence;
+  /// bad_input if they are incomplete.
+  TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned);
+  /// n×3 world positions of the template vertices in `sequence`:`frame` (frame number).
+  Eigen::MatrixXd positions(const std::string& sequence, int frame) const;
+  double height() const { return height_; }  ///< the true root frame's y extent (m)
+  /// Texture region per template vertex (regions.npy of the true template; −1 when absent).
+  const Eigen::VectorXi& regions() const { return regions_; }
+  const std::vector<std::string>& region_names() const { return region_names_; }
+
+ private:
+  const core::Capture& capture_;
+  std::filesystem::path truth_path_;
+  core::AlignedDatabase truth_;
+  std::vector<int> faces_;
+  Eigen::MatrixXd barycentric_;
+  Eigen::VectorXi regions_;
+  std::vector<std::string> region_names_;
+  double height_ = 0;
+};
+
 struct FrameTruthError {
   double rms = 0;  ///< metres, over the template vertices
   double max = 0;
+  double normal_rms = 0;      ///< component along the true surface normal
+  double tangential_rms = 0;  ///< component in the true tangent plane (sliding)
 };
 
 struct TruthEvaluation {
   double height = 0;                    ///< character height: the true root frame's y extent (m)
   double rms = 0;                       ///< over all frames and vertices (m)
+  double normal_rms = 0, tangential_rms = 0;
   double worst_frame_rms = 0;
   long worst_node = 0;
   std::vector<FrameTruthError> frames;  ///< per node
   std::map<int, double> rms_by_depth;   ///< tree depth → RMS over its frames and vertices
+  std::map<std::string, double> rms_by_region;  ///< texture region → RMS over all frames
   core::Json to_json(const Registration& registration) const;  ///< figures in metres and % of height
 };
 
@@ -35,6 +65,7 @@ struct TruthEvaluation {
 std::optional<std::filesystem::path> ground_truth_file(const core::Capture& capture);
 
 /// Compares every aligned frame with the truth; bad_input if the ground truth is incomplete.
+TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Registration& registration);
 TruthEvaluation evaluate_against_truth(const core::Capture& capture, const Registration& registration);
 
 }  // namespace surfcap::align

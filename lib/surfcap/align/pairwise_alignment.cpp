@@ -7,6 +7,7 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "surfcap/align/feature_constraints.hpp"
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/core/error.hpp"
 
@@ -120,6 +121,8 @@ void PairwiseOptions::validate() const {
   require(normal_compatibility >= -1 && normal_compatibility <= 1, "normal compatibility must be in [-1, 1]");
   require(coarse_distance > 0 && dense_distance_edges > 0, "distance gates must be > 0");
   require(heading_samples >= 1, "heading samples must be ≥ 1");
+  require(features.ratio > 0 && features.ratio <= 1, "feature ratio must be in (0, 1]");
+  require(features.max_per_image >= 1, "features per image must be ≥ 1");
 }
 
 core::Json PairwiseOptions::to_json() const {
@@ -129,7 +132,11 @@ core::Json PairwiseOptions::to_json() const {
           {"dense_iterations", dense_iterations}, {"dense_weight", dense_weight},
           {"normal_compatibility", normal_compatibility}, {"coarse_distance", coarse_distance},
           {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples},
-          {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges}};
+          {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges},
+          {"feature_weight", feature_weight},
+          {"features", {{"max_per_image", features.max_per_image}, {"ratio", features.ratio},
+                        {"neighbours", features.neighbours}, {"neighbour_tolerance", features.neighbour_tolerance},
+                        {"max_displacement", features.max_displacement}, {"min_facing", features.min_facing}}}};
 }
 
 AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer)
@@ -153,7 +160,7 @@ Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry
 
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
                           const geometry::SurfaceQuery& target, const PairwiseOptions& options,
-                          const Eigen::MatrixXd* target_colors) {
+                          const Eigen::MatrixXd* target_colors, const FeaturePair& features) {
   const VolumeDeformer& deformer = model.deformer();
   const long surface_count = deformer.surface_vertex_count();
   const Eigen::MatrixXi& F = model.mesh().F;
@@ -162,12 +169,20 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   Eigen::MatrixXd positions = parent_positions;
 
   auto start = Clock::now();
+  std::vector<FeatureConstraint> feature_targets;
   {
     const Eigen::MatrixXd surface = positions.topRows(surface_count);
     const RigidFit rigid = rigid_initialisation(surface, core::vertex_normals(surface, F), target, model, options);
     positions = transformed(positions, rigid);
     const Eigen::Vector3d forward = rigid.rotation * Eigen::Vector3d::UnitZ();
     result.heading_change = std::atan2(forward.x(), forward.z());
+    if (options.feature_weight > 0 && features.parent != nullptr && features.child != nullptr) {
+      FeatureMatching matching =
+          feature_constraints(surface, F, *features.parent, *features.child, rigid.rotation, rigid.translation,
+                              options.dense_distance_edges * model.mean_edge(), model.height(), options.features);
+      feature_targets = std::move(matching.constraints);
+      result.feature_constraints = static_cast<long>(feature_targets.size());
+    }
   }
   result.timings.matching += seconds_since(start);
 
@@ -209,6 +224,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       }
       result.patch_constraints += static_cast<long>(members.size());
     }
+    add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
     result.timings.matching += seconds_since(start);
     if (weights.maxCoeff() > 0) solve(targets, weights);
   }
@@ -262,6 +278,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       ++matched;
     }
     result.dense_constraints = matched;
+    add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
     result.timings.matching += seconds_since(start);
     if (matched == 0) break;
     solve(targets, weights);
@@ -271,6 +288,17 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   const Eigen::VectorXd distances = surface_distances(positions.topRows(surface_count), target);
   result.mean_residual = distances.mean();
   result.max_residual = distances.maxCoeff();
+  {
+    // Two-sided check: reconstruction vertices far from the aligned template are parts it missed
+    // (a limb collapsed onto another leaves one uncovered) — the one-sided residual cannot see that.
+    const geometry::SurfaceQuery aligned(positions.topRows(surface_count), F);
+    const double gate = options.uncovered_distance_edges * model.mean_edge();
+    long uncovered = 0;
+    for (long i = 0; i < target.vertices().rows(); ++i)
+      if (aligned.closest_point(target.vertices().row(i).transpose()).distance > gate) ++uncovered;
+    result.uncovered_fraction =
+        target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows()) : 0.0;
+  }
   result.timings.matching += seconds_since(start);
   result.positions = std::move(positions);
   return result;

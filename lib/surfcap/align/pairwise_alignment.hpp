@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "surfcap/align/image_features.hpp"
 #include "surfcap/align/surface_patches.hpp"
 #include "surfcap/align/volume_deformer.hpp"
 #include "surfcap/core/json_document.hpp"
@@ -33,6 +34,12 @@ struct PairwiseOptions {
   /// colour-weighted mean of the target vertices near the closest point (σ in RGB 0..1; ≤ 0: off).
   double color_sigma = 0.15;
   double color_radius_edges = 1.5;  ///< search radius of the photometric target, in template mean edges
+  /// Image features (SIFT matches between the parent's and the child's camera images): soft
+  /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
+  double feature_weight = 2.0;
+  FeatureOptions features;
+  double uncovered_distance_edges = 1.5;  ///< a reconstruction vertex farther than this from the aligned
+                                          ///< template (template mean edges) is uncovered
   /// Throws bad_arguments naming the offending option.
   void validate() const;
   core::Json to_json() const;
@@ -74,17 +81,24 @@ struct PairwiseResult {
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
+  double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
   PairwiseTimings timings;
 };
 
 /// Per surface vertex of `surface` (n×3 template connectivity): distance to the target surface.
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
 
+/// The camera-image features of the parent and child frames (either may be empty: no images).
+struct FeaturePair {
+  const FrameFeatures* parent = nullptr;
+  const FrameFeatures* child = nullptr;
+};
+
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
 /// reconstruction, queried through `target_query`); `target_colors` (per target vertex, 0..1) enables
 /// the photometric dense fit when the template has colours too.
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
                           const geometry::SurfaceQuery& target_query, const PairwiseOptions& options,
-                          const Eigen::MatrixXd* target_colors = nullptr);
+                          const Eigen::MatrixXd* target_colors = nullptr, const FeaturePair& features = {});
 
 }  // namespace surfcap::align

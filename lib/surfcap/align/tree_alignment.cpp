@@ -5,7 +5,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <map>
+#include <optional>
+#include <Eigen/Dense>
 
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/json_document.hpp"
@@ -94,6 +97,25 @@ core::RootMotion root_motion(const Eigen::MatrixXd& template_rest, const Eigen::
   return root;
 }
 
+Eigen::MatrixXd pose_volume(const AlignmentTemplate& model, const Eigen::MatrixXd& surface) {
+  const VolumeDeformer& deformer = model.deformer();
+  const long n = deformer.surface_vertex_count();
+  if (surface.rows() != n) throw core::internal_error("pose_volume: surface size");
+  const Eigen::MatrixXd rest = deformer.rest().topRows(n);
+  const Eigen::RowVector3d rest_centre = rest.colwise().mean(), centre = surface.colwise().mean();
+  const Eigen::Matrix3d covariance = (rest.rowwise() - rest_centre).transpose() * (surface.rowwise() - centre);
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
+  flip(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d rotation = svd.matrixV() * flip * svd.matrixU().transpose();
+  const Eigen::MatrixXd start =
+      ((deformer.rest().rowwise() - rest_centre) * rotation.transpose()).rowwise() + centre;
+  const Eigen::VectorXd weights = Eigen::VectorXd::Constant(n, 100.0);
+  Eigen::MatrixXd positions = deformer.deform(deformer.factor(weights), start, surface, weights, 8);
+  positions.topRows(n) = surface;
+  return positions;
+}
+
 Registration register_capture(const core::Capture& capture, const similarity::FrameList& frames,
                               const AlignmentTree& tree, const RegisterOptions& options,
                               const core::ProgressCallback& progress) {
@@ -130,12 +152,26 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
     record.alignment.mean_residual = distances.mean();
     record.alignment.max_residual = distances.maxCoeff();
   }
+  // Image features per node: detected when the node is aligned (the root first), released once the
+  // next depth (its children) is done.
+  const bool use_features = options.images && options.pairwise.feature_weight > 0;
+  std::vector<FrameFeatures> features(static_cast<std::size_t>(node_count));
+  if (use_features) {
+    const geometry::SurfaceQuery query(template_mesh.V, template_mesh.F);
+    features[static_cast<std::size_t>(tree.root)] =
+        detect_frame_features(capture, root.sequence, root.frame, query, options.pairwise.features);
+    registration.frames[static_cast<std::size_t>(tree.root)].features = features[static_cast<std::size_t>(tree.root)].size();
+  }
   std::atomic<std::size_t> done{1};
   if (progress) progress(done, static_cast<std::size_t>(node_count));
 
   // Level by level: the edges of one depth only read positions of the previous depth.
   std::map<int, std::vector<AlignmentTree::Edge>> by_depth;
-  for (const auto& edge : tree.edges) by_depth[edge.depth].push_back(edge);
+  std::vector<int> node_depth(static_cast<std::size_t>(node_count), 0);
+  for (const auto& edge : tree.edges) {
+    by_depth[edge.depth].push_back(edge);
+    node_depth[static_cast<std::size_t>(edge.child)] = edge.depth;
+  }
   for (const auto& [depth, edges] : by_depth) {
     core::parallel_for(static_cast<long>(edges.size()), options.threads, [&](long i) {
       const auto& edge = edges[static_cast<std::size_t>(i)];
@@ -143,18 +179,87 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       const NodeFrame child = nodes[static_cast<std::size_t>(edge.child)];
       const core::Mesh target = read_reconstruction(capture, child.sequence, child.frame);
       const geometry::SurfaceQuery query(target.V, target.F);
-      PairwiseResult result = align_pair(model, positions[static_cast<std::size_t>(edge.parent)], query, options.pairwise,
-                                         target.has_colors() ? &target.colors : nullptr);
+      if (use_features)
+        features[static_cast<std::size_t>(edge.child)] =
+            detect_frame_features(capture, child.sequence, child.frame, query, options.pairwise.features);
+      auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
+      // > 1: failed. The worse of the residual and the uncovered fraction, relative to their limits.
+      const auto failure_score = [&](const PairwiseResult& r) {
+        return std::max(r.mean_residual / options.failure_residual, r.uncovered_fraction / options.max_uncovered);
+      };
+      // One attempt from `from`; nullopt (and a record of why) if it throws or fits badly.
+      auto attempt = [&](long from) -> std::optional<PairwiseResult> {
+        FrameFeatures other;  // an alternative parent's features were released with its depth
+        const FrameFeatures* parent_features = &features[static_cast<std::size_t>(from)];
+        if (use_features && from != edge.parent) {
+          const NodeFrame source = nodes[static_cast<std::size_t>(from)];
+          const core::Mesh mesh = read_reconstruction(capture, source.sequence, source.frame);
+          other = detect_frame_features(capture, source.sequence, source.frame,
+                                        geometry::SurfaceQuery(mesh.V, mesh.F), options.pairwise.features);
+          parent_features = &other;
+        }
+        const FeaturePair pair = use_features ? FeaturePair{parent_features, &features[static_cast<std::size_t>(edge.child)]}
+                                              : FeaturePair{};
+        try {
+          const Eigen::MatrixXd parent = options.parent_surface ? pose_volume(model, options.parent_surface(from))
+                                                                : positions[static_cast<std::size_t>(from)];
+          PairwiseResult result = align_pair(model, parent, query, options.pairwise,
+                                             target.has_colors() ? &target.colors : nullptr, pair);
+          if (failure_score(result) <= 1) return result;
+          record.failed_attempts.push_back(
+              {from, result.mean_residual, result.uncovered_fraction,
+               result.mean_residual > options.failure_residual ? "mean residual above the failure threshold"
+                                                               : "reconstruction not covered by the aligned template"});
+          return result;  // kept only if no retry does better
+        } catch (const core::Error& error) {
+          record.failed_attempts.push_back({from, -1.0, 0.0, error.what()});
+          return std::nullopt;
+        }
+      };
+      std::optional<PairwiseResult> best = attempt(edge.parent);
+      long best_parent = edge.parent;
+      // A failure inherited from an unrecovered parent is reported, not retried (its alternatives
+      // were tried for the parent already).
+      const bool parent_failed = registration.frames[static_cast<std::size_t>(edge.parent)].unrecovered;
+      if (!record.failed_attempts.empty() && options.costs != nullptr && !options.parent_surface && !parent_failed) {
+        // Next-best neighbours: frames of lower depth (already aligned), by similarity cost.
+        std::vector<std::pair<double, long>> candidates;
+        for (long other = 0; other < node_count; ++other)
+          if (other != edge.parent && other != edge.child && node_depth[static_cast<std::size_t>(other)] < edge.depth &&
+              !registration.frames[static_cast<std::size_t>(other)].unrecovered)
+            candidates.push_back({(*options.costs)(edge.child, other), other});
+        std::sort(candidates.begin(), candidates.end());
+        for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
+          const long from = candidates[k].second;
+          const std::size_t failures = record.failed_attempts.size();
+          std::optional<PairwiseResult> retry = attempt(from);
+          if (retry && (!best || failure_score(*retry) < failure_score(*best))) {
+            best = std::move(retry);
+            best_parent = from;
+          }
+          if (record.failed_attempts.size() == failures) break;  // this one succeeded
+        }
+      }
+      if (!best)
+        throw core::bad_input(capture.mesh_path(child.sequence, child.frame),
+                              "alignment failed from every candidate parent: " + record.failed_attempts.front().failure,
+                              child.frame);
+      if (best_parent != edge.parent)
+        spdlog::warn("{}:{}: alignment from its tree parent failed; aligned from node {} instead", record.sequence,
+                     record.frame, best_parent);
+      record.unrecovered = failure_score(*best) > 1;
+      PairwiseResult result = std::move(*best);
       positions[static_cast<std::size_t>(edge.child)] = std::move(result.positions);
       result.positions.resize(0, 0);
-      auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
-      record.parent = edge.parent;
+      record.parent = best_parent;
       record.depth = edge.depth;
       record.alignment = std::move(result);
       record.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      record.features = features[static_cast<std::size_t>(edge.child)].size();
       const std::size_t finished = ++done;
       if (progress) progress(finished, static_cast<std::size_t>(node_count));
     });
+    for (const auto& edge : edges) features[static_cast<std::size_t>(edge.parent)] = FrameFeatures{};
   }
 
   // The database: template = the root reconstruction; frames centred with their root motion.

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,18 @@ struct RegisterOptions {
   PairwiseOptions pairwise;
   DeformerOptions deformer;
   int threads = 0;  ///< ≤ 0: all hardware threads
+  bool images = true;  ///< use camera-image features when the capture has images
+  /// Recoverable failures (issue 10): a child whose alignment throws (solver failure), ends with a
+  /// mean residual above `failure_residual` (m) or leaves more than `max_uncovered` of its
+  /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) is aligned again from the next most similar frame
+  /// already aligned (a lower depth, by `costs`), up to `retries` times; the best attempt is kept.
+  double failure_residual = 0.004;
+  double max_uncovered = 1.0;  ///< or more than this fraction of the reconstruction is not covered (1: off)
+  int retries = 2;
+  const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
+  /// Diagnostics: when set, every child is aligned from the template surface this returns for its
+  /// parent node (e.g. the ground truth) instead of from the aligned parent — each edge's own error.
+  std::function<Eigen::MatrixXd(long node)> parent_surface;
 };
 
 /// One aligned frame, as the report lists it.
@@ -48,6 +61,15 @@ struct FrameRecord {
   int depth = 0;
   PairwiseResult alignment;  ///< positions cleared after use; residuals, counts, timings
   double seconds = 0;
+  long features = 0;    ///< image features of this frame on its reconstruction (0: no images)
+  struct Attempt {
+    long parent = -1;
+    double mean_residual = 0;  ///< < 0: the attempt threw
+    double uncovered_fraction = 0;
+    std::string failure;       ///< why it was not good enough
+  };
+  std::vector<Attempt> failed_attempts;  ///< every attempt that failed (`parent` is the one kept)
+  bool unrecovered = false;              ///< even the kept attempt is above the failure threshold
 };
 
 struct Registration {
@@ -62,6 +84,10 @@ struct Registration {
 /// Root motion of an aligned frame relative to the template at rest: centroid (x, y, z) and the
 /// heading of the best rotation about +y taking the centred template onto the centred frame.
 core::RootMotion root_motion(const Eigen::MatrixXd& template_rest, const Eigen::MatrixXd& world);
+
+/// All deformer vertices (surface + interior) for a posed template surface (n×3): the rest volume
+/// rigidly fitted to it, then deformed onto it (rotation updates), surface rows set exactly.
+Eigen::MatrixXd pose_volume(const AlignmentTemplate& model, const Eigen::MatrixXd& surface);
 
 /// Aligns all frames of `capture` listed in `frames` along `tree`. Reconstructions are read (and
 /// checked) as needed; errors name the file and frame.

@@ -67,6 +67,7 @@ TEST(PairwiseAlignment, FollowsABendAndTwistOntoADifferentTessellation) {
   EXPECT_LT(rms, 0.3 * before) << "rms " << rms << " max " << errors.maxCoeff() << " before " << before;
   EXPECT_LT(rms, 0.025 * height);
   EXPECT_LT(result.mean_residual, 0.002 * height);
+  EXPECT_LT(result.uncovered_fraction, 0.01);  // two-sided: the whole target is covered
   EXPECT_GT(result.accepted_patches, result.total_patches / 2);
   EXPECT_GT(result.dense_constraints, template_mesh.V.rows() * 9 / 10);
 }

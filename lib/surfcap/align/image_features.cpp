@@ -1,0 +1,172 @@
+#include "surfcap/align/image_features.hpp"
+
+#include <flann/flann.hpp>
+
+#include <algorithm>
+#include <array>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "surfcap/core/error.hpp"
+
+namespace surfcap::align {
+
+namespace {
+
+/// Keypoints in a deterministic order (OpenCV's SIFT collects them from parallel workers).
+void sort_keypoints(std::vector<cv::KeyPoint>& keypoints) {
+  std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+    if (a.response != b.response) return a.response > b.response;
+    if (a.pt.y != b.pt.y) return a.pt.y < b.pt.y;
+    if (a.pt.x != b.pt.x) return a.pt.x < b.pt.x;
+    if (a.size != b.size) return a.size < b.size;
+    return a.angle < b.angle;
+  });
+}
+
+using Descriptors = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// For every row of `queries`: the nearest and second-nearest rows of `data` (exact search,
+/// squared L2), as (index, distance²) pairs. FLANN's linear index: exact and deterministic (its
+/// randomised trees draw from std::rand, shared between threads), and fast enough for a few
+/// thousand descriptors.
+struct Neighbours {
+  std::vector<std::array<int, 2>> index;
+  std::vector<std::array<float, 2>> distance;
+};
+
+Neighbours two_nearest(const Descriptors& data, const Descriptors& queries) {
+  Neighbours result;
+  const auto q = static_cast<std::size_t>(queries.rows());
+  result.index.assign(q, {-1, -1});
+  result.distance.assign(q, {0.f, 0.f});
+  if (data.rows() < 2 || q == 0) return result;
+  const flann::Matrix<float> dataset(const_cast<float*>(data.data()), static_cast<std::size_t>(data.rows()),
+                                     static_cast<std::size_t>(data.cols()));
+  flann::Index<flann::L2<float>> index(dataset, flann::LinearIndexParams());
+  index.buildIndex();
+  const flann::Matrix<float> query(const_cast<float*>(queries.data()), q, static_cast<std::size_t>(queries.cols()));
+  std::vector<int> indices(2 * q);
+  std::vector<float> distances(2 * q);
+  flann::Matrix<int> index_matrix(indices.data(), q, 2);
+  flann::Matrix<float> distance_matrix(distances.data(), q, 2);
+  flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+  params.cores = 1;  // callers parallelise over frames
+  index.knnSearch(query, index_matrix, distance_matrix, 2, params);
+  for (std::size_t i = 0; i < q; ++i) {
+    result.index[i] = {indices[2 * i], indices[2 * i + 1]};
+    result.distance[i] = {distances[2 * i], distances[2 * i + 1]};
+  }
+  return result;
+}
+
+}  // namespace
+
+FrameFeatures detect_frame_features(const core::Capture& capture, int sequence, int frame,
+                                    const geometry::SurfaceQuery& reconstruction, const FeatureOptions& options) {
+  FrameFeatures features;
+  if (capture.sequences[static_cast<std::size_t>(sequence)].images.empty()) return features;
+  const cv::Ptr<cv::SIFT> sift = cv::SIFT::create();
+  std::vector<Eigen::Vector3d> points, normals;
+  std::vector<cv::Mat> descriptor_rows;
+  for (int c = 0; c < static_cast<int>(capture.cameras.size()); ++c) {
+    const auto& camera = capture.cameras[static_cast<std::size_t>(c)];
+    const auto path = capture.image_path(sequence, frame, c);
+    const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw core::bad_input(path, "unreadable camera image", frame);
+    std::vector<cv::KeyPoint> keypoints;
+    sift->detect(image, keypoints);
+    sort_keypoints(keypoints);
+    if (static_cast<int>(keypoints.size()) > options.max_per_image) keypoints.resize(options.max_per_image);
+    features.detected += static_cast<long>(keypoints.size());
+    if (keypoints.empty()) continue;
+    cv::Mat descriptors;
+    sift->compute(image, keypoints, descriptors);  // may drop keypoints (in order): rows follow `keypoints`
+    // Undistorted normalised coordinates of the keypoints → camera rays → first surface hit.
+    std::vector<cv::Point2f> pixels;
+    for (const auto& keypoint : keypoints) pixels.push_back(keypoint.pt);
+    cv::Mat K(3, 3, CV_64F), distortion(1, 5, CV_64F);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) K.at<double>(i, j) = camera.K(i, j);
+    for (int i = 0; i < 5; ++i) distortion.at<double>(0, i) = camera.distortion(i);
+    std::vector<cv::Point2f> normalised;
+    cv::undistortPoints(pixels, normalised, K, distortion);
+    const Eigen::Vector3d centre = -camera.R.transpose() * camera.t;
+    for (int k = 0; k < descriptors.rows && k < static_cast<int>(normalised.size()); ++k) {
+      const Eigen::Vector3d direction =
+          (camera.R.transpose() * Eigen::Vector3d(normalised[static_cast<std::size_t>(k)].x,
+                                                  normalised[static_cast<std::size_t>(k)].y, 1.0))
+              .normalized();
+      const auto hit = reconstruction.first_hit(centre, direction);
+      if (!hit) continue;
+      const Eigen::Vector3d normal = reconstruction.face_normal(hit->face);
+      if (-normal.dot(direction) < options.min_facing) continue;  // grazing: unreliable position
+      points.push_back(hit->position);
+      normals.push_back(normal);
+      descriptor_rows.push_back(descriptors.row(k));
+      features.cameras.push_back(c);
+    }
+  }
+  const long k = static_cast<long>(points.size());
+  features.points.resize(k, 3);
+  features.normals.resize(k, 3);
+  features.descriptors.resize(k, 128);
+  for (long i = 0; i < k; ++i) {
+    features.points.row(i) = points[static_cast<std::size_t>(i)].transpose();
+    features.normals.row(i) = normals[static_cast<std::size_t>(i)].transpose();
+    const cv::Mat& row = descriptor_rows[static_cast<std::size_t>(i)];
+    for (int j = 0; j < 128; ++j) features.descriptors(i, j) = row.at<float>(0, j);
+  }
+  return features;
+}
+
+std::vector<FeatureMatch> match_features(const FrameFeatures& parent, const FrameFeatures& child,
+                                         const Eigen::MatrixXd& predicted, double height,
+                                         const FeatureOptions& options) {
+  std::vector<FeatureMatch> candidates;
+  if (parent.size() < 2 || child.size() < 2) return candidates;
+  const Neighbours forward = two_nearest(child.descriptors, parent.descriptors);
+  const Neighbours backward = two_nearest(parent.descriptors, child.descriptors);
+  const float ratio2 = static_cast<float>(options.ratio * options.ratio);
+  const double max_displacement = options.max_displacement * height;
+  for (long p = 0; p < parent.size(); ++p) {
+    const auto& [best, second] = forward.index[static_cast<std::size_t>(p)];
+    if (best < 0) continue;
+    const auto& distance = forward.distance[static_cast<std::size_t>(p)];
+    if (distance[0] > ratio2 * distance[1]) continue;                          // ratio test
+    if (backward.index[static_cast<std::size_t>(best)][0] != p) continue;     // mutual
+    const auto& back = backward.distance[static_cast<std::size_t>(best)];
+    if (back[0] > ratio2 * back[1]) continue;
+    if ((child.points.row(best) - predicted.row(p)).norm() > max_displacement) continue;
+    candidates.push_back({p, best});
+  }
+  // Neighbour consistency: the displacement (child − predicted parent) of a match must agree with
+  // the median displacement of its nearest matches (by parent position).
+  const long m = static_cast<long>(candidates.size());
+  const int k = std::min<int>(options.neighbours, static_cast<int>(m) - 1);
+  if (k < 3) return {};
+  Eigen::MatrixXd displacement(m, 3), origin(m, 3);
+  for (long i = 0; i < m; ++i) {
+    origin.row(i) = predicted.row(candidates[static_cast<std::size_t>(i)].parent);
+    displacement.row(i) = child.points.row(candidates[static_cast<std::size_t>(i)].child) - origin.row(i);
+  }
+  const double tolerance = options.neighbour_tolerance * height;
+  std::vector<FeatureMatch> accepted;
+  std::vector<std::pair<double, long>> order(static_cast<std::size_t>(m));
+  for (long i = 0; i < m; ++i) {
+    for (long j = 0; j < m; ++j) order[static_cast<std::size_t>(j)] = {(origin.row(j) - origin.row(i)).squaredNorm(), j};
+    std::partial_sort(order.begin(), order.begin() + k + 1, order.end());
+    Eigen::Vector3d median;
+    std::vector<double> values(static_cast<std::size_t>(k));
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int n = 0; n < k; ++n) values[static_cast<std::size_t>(n)] = displacement(order[static_cast<std::size_t>(n + 1)].second, axis);
+      std::nth_element(values.begin(), values.begin() + k / 2, values.end());
+      median(axis) = values[static_cast<std::size_t>(k / 2)];
+    }
+    if ((displacement.row(i).transpose() - median).norm() <= tolerance) accepted.push_back(candidates[static_cast<std::size_t>(i)]);
+  }
+  return accepted;
+}
+
+}  // namespace surfcap::align
