@@ -10,6 +10,7 @@
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/json_document.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/core/parallel.hpp"
 
 namespace surfcap::align {
@@ -19,10 +20,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 core::Mesh read_reconstruction(const core::Capture& capture, int sequence, int frame) {
-  core::MeshRequirements requirements;
-  requirements.allow_non_manifold = true;
-  requirements.allow_zero_area_faces = true;
-  return core::read_mesh(capture.mesh_path(sequence, frame), requirements, frame);
+  return core::read_reconstruction(capture.mesh_path(sequence, frame), frame);
 }
 
 struct NodeFrame {
