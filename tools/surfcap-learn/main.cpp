@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
     }();
     report.figures()["vertices"] = db.template_mesh.vertex_count();
     report.figures()["frames"] = db.total_frames();
-    const core::Json provenance = {{"tool", "surfcap-learn"}, {"version", core::version()}, {"options", app.options_json()}};
+    const core::Json provenance = {{"tool", "surfcap-learn"}, {"version", core::version()}, {"options", app.provenance_options()}};
 
     if (evaluate_cmd->parsed()) {
       leave_out.editor.method = learn::EditMethod::learnt;

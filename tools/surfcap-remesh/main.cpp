@@ -84,7 +84,7 @@ void run(const Arguments& args, const core::ToolApp& app) {
     sequence.root_motion.push_back(motion);
   }
   truth.sequences.push_back(std::move(sequence));
-  truth.provenance = {{"kind", "ground truth"}, {"tool", "surfcap-remesh"}, {"options", app.options_json()}};
+  truth.provenance = {{"kind", "ground truth"}, {"tool", "surfcap-remesh"}, {"options", app.provenance_options()}};
   core::write_database(out / "ground_truth" / "database", truth);
   core::write_json_file(out / "ground_truth" / "truth.json",
                         {{"format", core::format_tag("remesh_truth", 1)},

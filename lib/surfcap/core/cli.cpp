@@ -110,6 +110,12 @@ ToolApp::ToolApp(std::string name, std::string description) : app_(std::move(des
 
 Json ToolApp::options_json() const { return app_options(&app_); }
 
+Json ToolApp::provenance_options() const {
+  Json options = options_json();
+  for (const char* name : {"threads", "log-level", "log-json"}) options.erase(name);
+  return options;
+}
+
 int ToolApp::run(int argc, const char* const* argv, const std::function<void()>& body) {
   // Writes past RLIMIT_FSIZE must fail with EFBIG (exit 4), not kill the process.
   std::signal(SIGXFSZ, SIG_IGN);

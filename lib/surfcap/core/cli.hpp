@@ -34,6 +34,9 @@ class ToolApp {
   const CommonOptions& common() const { return common_; }
   /// The effective options (command line + config + defaults) as JSON, for provenance.
   Json options_json() const;
+  /// options_json without the options that cannot change an output (--threads, --log-level,
+  /// --log-json): what outputs record, so that they stay byte-identical across those.
+  Json provenance_options() const;
 
   /// Parses the command line, configures logging and threads, then runs `body`. Returns the
   /// process exit code: 0 ok (and --help/--version), 2 bad arguments, and for a thrown
