@@ -134,7 +134,8 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
   // Level by level: the edges of one depth only read positions of the previous depth.
   std::map<int, std::vector<AlignmentTree::Edge>> by_depth;
   for (const auto& edge : tree.edges) by_depth[edge.depth].push_back(edge);
-  for (const auto& [depth, edges] : by_depth) {
+  for (const auto& level : by_depth) {
+    const auto& edges = level.second;  // not a structured binding: clang 14 cannot capture those
     core::parallel_for(static_cast<long>(edges.size()), options.threads, [&](long i) {
       const auto& edge = edges[static_cast<std::size_t>(i)];
       const auto start = Clock::now();

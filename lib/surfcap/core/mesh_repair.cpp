@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <vector>
 
@@ -145,55 +147,88 @@ SurfaceMesh surface_of(const Soup& soup, const std::filesystem::path& source, st
   return surface;
 }
 
-void fill_holes(SurfaceMesh& surface, const RepairLimits& limits, RepairReport& report,
-                const std::filesystem::path& source, std::optional<long> frame) {
-  std::vector<SurfaceMesh::Halfedge_index> holes;
-  PMP::extract_boundary_cycles(surface, std::back_inserter(holes));
-  std::vector<long> sizes;
-  for (const auto h : holes) sizes.push_back(static_cast<long>(CGAL::halfedges_around_face(h, surface).size()));
-  const long largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
-  if (largest > limits.max_hole_edges)
-    throw bad_input(source, "open surface with a hole of " + std::to_string(largest) +
-                                " boundary edges: too large to fill (holes of up to " +
-                                std::to_string(limits.max_hole_edges) + " edges are repaired)", frame);
+/// Connected pieces of a surface; a piece of at most max_debris_faces beside a larger one is debris.
+struct Pieces {
+  SurfaceMesh::Property_map<SurfaceMesh::Face_index, std::size_t> of;
+  std::vector<char> debris;
+};
+
+Pieces find_pieces(SurfaceMesh& surface, const RepairLimits& limits, RepairReport& report) {
+  Pieces pieces;
+  pieces.of = surface.add_property_map<SurfaceMesh::Face_index, std::size_t>("f:surfcap_piece", 0).first;
+  const std::size_t count = PMP::connected_components(surface, pieces.of);
+  std::vector<long> faces_of(count, 0);
+  for (const auto f : surface.faces()) ++faces_of[pieces.of[f]];
+  const long biggest = count == 0 ? 0 : *std::max_element(faces_of.begin(), faces_of.end());
+  pieces.debris.assign(count, 0);
+  for (std::size_t c = 0; c < count; ++c)
+    if (faces_of[c] <= limits.max_debris_faces && biggest > limits.max_debris_faces) {
+      pieces.debris[c] = 1;
+      ++report.debris_components;
+      report.debris_faces += faces_of[c];
+    }
+  return pieces;
+}
+
+/// Fills the holes of every piece but debris; the new faces join the hole's piece.
+void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& input_vertices, const RepairLimits& limits,
+                RepairReport& report, const std::filesystem::path& source, std::optional<long> frame) {
+  std::vector<SurfaceMesh::Halfedge_index> all, holes;
+  PMP::extract_boundary_cycles(surface, std::back_inserter(all));
+  for (const auto h : all)
+    if (!pieces.debris[pieces.of[surface.face(surface.opposite(h))]]) holes.push_back(h);
   if (static_cast<long>(holes.size()) > limits.max_holes)
     throw bad_input(source, "open surface with " + std::to_string(holes.size()) + " holes: too many to fill (up to " +
                                 std::to_string(limits.max_holes) + " are repaired)", frame);
+  std::vector<long> sizes;
+  double largest_perimeter = 0;
+  for (const auto h : holes) {
+    double perimeter = 0;
+    for (const auto e : CGAL::halfedges_around_face(h, surface))
+      perimeter += std::sqrt(CGAL::squared_distance(surface.point(surface.source(e)), surface.point(surface.target(e))));
+    sizes.push_back(static_cast<long>(CGAL::halfedges_around_face(h, surface).size()));
+    largest_perimeter = std::max(largest_perimeter, perimeter);
+  }
+  const long largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
+  const double diagonal = bounding_box_diagonal(input_vertices);
+  if (largest > limits.max_hole_edges || largest_perimeter > limits.max_hole_perimeter * diagonal) {
+    char figures[160];
+    std::snprintf(figures, sizeof figures, "a hole of %ld boundary edges, %.3g m around (%.0f%% of the bounding-box diagonal)",
+                  largest, largest_perimeter, 100 * largest_perimeter / diagonal);
+    char bounds[120];
+    std::snprintf(bounds, sizeof bounds, "holes of up to %ld edges and %.0f%% are repaired", limits.max_hole_edges,
+                  100 * limits.max_hole_perimeter);
+    throw bad_input(source, std::string("open surface with ") + figures + ": too large to fill (" + bounds + ")", frame);
+  }
   for (std::size_t k = 0; k < holes.size(); ++k) {
+    const std::size_t piece = pieces.of[surface.face(surface.opposite(holes[k]))];
     std::vector<SurfaceMesh::Face_index> added;
     PMP::triangulate_hole(surface, holes[k], std::back_inserter(added));
     if (added.empty())
       throw bad_input(source, "a hole of " + std::to_string(sizes[k]) + " boundary edges could not be triangulated",
                       frame);
+    for (const auto f : added) pieces.of[f] = piece;
     report.faces_added += static_cast<long>(added.size());
   }
   report.holes_filled = static_cast<long>(holes.size());
   report.largest_hole_edges = largest;
+  report.largest_hole_perimeter = largest_perimeter;
 }
 
 /// Faces of `surface` (minus debris) as a Mesh over the referenced vertices, in index order;
-/// `component` receives each output face's connected component.
-Mesh extract(SurfaceMesh& surface, const Soup& soup, const Mesh& input, const RepairLimits& limits,
-             RepairReport& report, std::vector<std::size_t>& component) {
-  auto components = surface.add_property_map<SurfaceMesh::Face_index, std::size_t>("f:surfcap_component", 0).first;
-  const std::size_t count = PMP::connected_components(surface, components);
-  std::vector<long> faces_of(count, 0);
-  for (const auto f : surface.faces()) ++faces_of[components[f]];
-  const long biggest = *std::max_element(faces_of.begin(), faces_of.end());
-  auto debris = [&](std::size_t c) { return faces_of[c] <= limits.max_debris_faces && biggest > limits.max_debris_faces; };
-  for (std::size_t c = 0; c < count; ++c)
-    if (debris(c)) ++report.debris_components, report.debris_faces += faces_of[c];
-
+/// `piece` receives each output face's piece.
+Mesh extract(const SurfaceMesh& surface, const Pieces& pieces, const Soup& soup, const Mesh& input,
+             RepairReport& report, std::vector<std::size_t>& piece) {
   std::vector<std::array<long, 3>> faces;
   std::vector<long> new_index(surface.number_of_vertices(), -1);
   for (const auto f : surface.faces()) {
-    if (debris(components[f])) continue;
+    if (pieces.debris[pieces.of[f]]) continue;
     std::array<long, 3> corners{};
     int k = 0;
     for (const auto v : CGAL::vertices_around_face(surface.halfedge(f), surface)) corners[k++] = v.idx();
     for (const long v : corners) new_index[static_cast<std::size_t>(v)] = 0;
     faces.push_back(corners);
-    component.push_back(components[f]);
+    piece.push_back(pieces.of[f]);
   }
   long kept = 0;
   for (auto& index : new_index)
@@ -219,15 +254,15 @@ Mesh extract(SurfaceMesh& surface, const Soup& soup, const Mesh& input, const Re
 
 /// Reorientation follows the first face of each piece; a closed piece that ended up enclosing a
 /// negative volume is turned outward again.
-void orient_outward(Mesh& mesh, const std::vector<std::size_t>& component) {
-  const std::size_t count = component.empty() ? 0 : *std::max_element(component.begin(), component.end()) + 1;
+void orient_outward(Mesh& mesh, const std::vector<std::size_t>& piece) {
+  const std::size_t count = piece.empty() ? 0 : *std::max_element(piece.begin(), piece.end()) + 1;
   std::vector<double> volume(count, 0.0);
   for (long f = 0; f < mesh.F.rows(); ++f) {
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    volume[component[static_cast<std::size_t>(f)]] += a.dot(b.cross(c)) / 6.0;
+    volume[piece[static_cast<std::size_t>(f)]] += a.dot(b.cross(c)) / 6.0;
   }
   for (long f = 0; f < mesh.F.rows(); ++f)
-    if (volume[component[static_cast<std::size_t>(f)]] < 0) std::swap(mesh.F(f, 1), mesh.F(f, 2));
+    if (volume[piece[static_cast<std::size_t>(f)]] < 0) std::swap(mesh.F(f, 1), mesh.F(f, 2));
 }
 
 }  // namespace
@@ -270,10 +305,11 @@ RepairReport repair_mesh(Mesh& mesh, const RepairLimits& limits, const std::file
 
   const Soup soup = oriented_soup(mesh, report);
   SurfaceMesh surface = surface_of(soup, source, frame);
-  fill_holes(surface, limits, report, source, frame);
-  std::vector<std::size_t> component;
-  Mesh repaired = extract(surface, soup, mesh, limits, report, component);
-  if (report.faces_reoriented > 0) orient_outward(repaired, component);
+  Pieces pieces = find_pieces(surface, limits, report);
+  fill_holes(surface, pieces, mesh.V, limits, report, source, frame);
+  std::vector<std::size_t> piece;
+  Mesh repaired = extract(surface, pieces, soup, mesh, report, piece);
+  if (report.faces_reoriented > 0) orient_outward(repaired, piece);
 
   const MeshCheck after = check_mesh(repaired);
   if (!after.closed() || !after.manifold() || count_pinch_vertices(repaired) > 0 || after.vertices == 0)

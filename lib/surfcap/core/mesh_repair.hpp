@@ -14,6 +14,9 @@ namespace surfcap::core {
 /// What counts as "small". Beyond any limit the mesh is rejected (bad_input, exit 3).
 struct RepairLimits {
   long max_hole_edges = 60;     ///< boundary edges of the largest hole that is filled
+  /// Perimeter of the largest hole that is filled, as a share of the bounding-box diagonal
+  /// (0.25: a hole ~14 cm across on a 1.8 m actor); keeps "small" independent of the resolution.
+  double max_hole_perimeter = 0.25;
   long max_holes = 10;          ///< holes filled per mesh
   long max_non_manifold = 20;   ///< non-manifold edges (MeshCheck) + pinch vertices split per mesh
   long max_debris_faces = 8;    ///< pieces of at most this many faces, beside a larger one, are dropped
@@ -23,6 +26,7 @@ struct RepairLimits {
 struct RepairReport {
   long holes_filled = 0;
   long largest_hole_edges = 0;
+  double largest_hole_perimeter = 0;  ///< metres
   long faces_added = 0;             ///< by hole filling
   long non_manifold_edges = 0;      ///< before repair (MeshCheck: more than two faces or inconsistent orientation)
   long non_manifold_vertices = 0;   ///< before repair (pinch points)

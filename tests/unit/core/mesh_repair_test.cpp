@@ -92,9 +92,10 @@ TEST(MeshRepair, ClosedManifoldMeshIsUnchanged) {
 }
 
 TEST(MeshRepair, SmallHolesAreFilledWithoutNewVertices) {
-  const core::Mesh sphere = testing::make_sphere(10, 16);
-  // Two holes: the 6 faces around ring-3 vertex 3*16+1 and around ring-7 vertex 7*16+9 (hexagons).
-  core::Mesh mesh = without_faces_around(sphere, {1 + 2 * 16 + 3, 1 + 6 * 16 + 9});
+  const core::Mesh sphere = testing::make_sphere(40, 64);
+  // Two holes: the 6 faces around a vertex of ring 9 and of ring 30 (hexagons ~0.5 m around,
+  // under a quarter of the 3.5 m bounding-box diagonal).
+  core::Mesh mesh = without_faces_around(sphere, {1 + 8 * 64 + 3, 1 + 29 * 64 + 9});
   core::Mesh colored = mesh;
   colored.colors = Eigen::MatrixXd::Zero(mesh.vertex_count(), 3);
   for (long v = 0; v < mesh.vertex_count(); ++v) colored.colors(v, v % 3) = 1.0;
@@ -104,12 +105,13 @@ TEST(MeshRepair, SmallHolesAreFilledWithoutNewVertices) {
   expect_closed_manifold(colored);
   EXPECT_EQ(report.holes_filled, 2);
   EXPECT_EQ(report.largest_hole_edges, 6);
+  EXPECT_LT(report.largest_hole_perimeter, 0.25 * core::bounding_box_diagonal(sphere.V));
   EXPECT_EQ(report.faces_added, 8);  // a hexagon takes 4 triangles
   EXPECT_EQ(report.vertices_dropped, 2);  // the two hole centres lost their faces
   EXPECT_EQ(colored.vertex_count(), sphere.vertex_count() - 2);
   EXPECT_EQ(colored.face_count(), sphere.face_count() - 12 + 8);
   // The patches are flat hexagons: the enclosed volume is the sphere's minus two thin caps.
-  EXPECT_GT(signed_volume(colored), 0.97 * signed_volume(sphere));
+  EXPECT_GT(signed_volume(colored), 0.999 * signed_volume(sphere));
   EXPECT_LT(signed_volume(colored), signed_volume(sphere));
   // Colours follow their vertices: every kept vertex keeps its position's colour.
   for (long v = 0; v < colored.vertex_count(); ++v) {
@@ -131,15 +133,18 @@ TEST(MeshRepair, LargeHoleStaysAnErrorNamingFileAndFrame) {
   expect_bad_input([&] { core::repair_mesh(mesh, {}, "walk/mesh/000012.ply", 12); }, "too large to fill");
   core::RepairLimits generous;
   generous.max_hole_edges = 80;
+  expect_bad_input([&] { core::repair_mesh(mesh, generous, "walk/mesh/000012.ply", 12); },
+                   "% of the bounding-box diagonal): too large to fill");  // 6.3 m around: still too wide
+  generous.max_hole_perimeter = 2.0;
   core::repair_mesh(mesh, generous, "walk/mesh/000012.ply", 12);
   expect_closed_manifold(mesh);
 }
 
 TEST(MeshRepair, ManyHolesStayAnError) {
-  const core::Mesh sphere = testing::make_sphere(16, 24);
+  const core::Mesh sphere = testing::make_sphere(40, 48);
   std::vector<int> centres;
-  for (int r = 2; r < 15; r += 3)
-    for (int s = 0; s < 24; s += 8) centres.push_back(1 + (r - 1) * 24 + s + r % 2);  // 15 separate hexagons
+  for (int r = 4; r < 37; r += 7)
+    for (int s = 0; s < 48; s += 16) centres.push_back(1 + (r - 1) * 48 + s);  // 15 separate hexagons
   const core::Mesh mesh = without_faces_around(sphere, centres);
   core::Mesh copy = mesh;
   expect_bad_input([&] { core::repair_mesh(copy, {}, "f.ply"); }, "15 holes: too many");
@@ -160,7 +165,7 @@ TEST(MeshRepair, FinOnAnEdgeIsSplitOffAndDropped) {
   expect_closed_manifold(mesh);
   EXPECT_EQ(report.non_manifold_edges, 1);
   EXPECT_GT(report.vertices_duplicated, 0);
-  EXPECT_EQ(report.debris_components, 1) << report.summary();  // the fin, closed into a two-face pillow
+  EXPECT_EQ(report.debris_components, 1) << report.summary();  // the fin, cut off by the split
   EXPECT_EQ(mesh.vertex_count(), sphere.vertex_count());
   EXPECT_NEAR(signed_volume(mesh), signed_volume(sphere), 1e-9);  // the sphere itself is intact
 }
@@ -215,7 +220,7 @@ TEST(MeshRepair, ManyNonManifoldEdgesStayAnError) {
 
 TEST(MeshRepair, ReadReconstructionRepairsAndWarns) {
   TemporaryDirectory dir("mesh_repair");
-  const core::Mesh open = without_faces_around(testing::make_sphere(10, 16), {1 + 4 * 16 + 5});
+  const core::Mesh open = without_faces_around(testing::make_sphere(40, 64), {1 + 19 * 64 + 5});
   core::write_mesh(dir / "frame.ply", open);
   CapturedWarnings warnings;
   core::RepairReport report;
