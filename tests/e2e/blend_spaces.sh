@@ -47,6 +47,10 @@ for f in space.json references.npy warp.npy warp.png displacements.offsets.npy d
   displacements.values.npy; do
   cmp "$work/out/spaces/locomotion/$f" "$work/shard/spaces/locomotion/$f"
 done
+# graph.json appears once every space of the config is there (tiny has two: locomotion, jump).
+[[ ! -e $work/shard/graph.json ]] || { echo "graph.json written before the jump space"; exit 1; }
+"$precompute" --threads 1 spaces --database "$database" --graph "$source/configs/graphs/tiny.json" \
+  --output "$work/shard" --space jump --sweep-mm 5 20 --validation-samples 4
 cmp "$work/out/graph.json" "$work/shard/graph.json"
 
 # Bad arguments and bad input give the documented exit codes.
