@@ -11,6 +11,7 @@
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/core/npy.hpp"
 #include "test_support.hpp"
 
@@ -52,6 +53,23 @@ TEST(FuzzCorpus, MeshInputs) {
     const auto path = dir / (std::string("input") + extensions[static_cast<unsigned char>(bytes[0]) % 3]);
     testing::write_text(path, bytes.substr(1));
     expect_clean(input, [&] { core::read_mesh(path); });
+  }
+}
+
+TEST(FuzzCorpus, RepairInputs) {
+  testing::TemporaryDirectory dir("fuzz_repair");
+  const char* extensions[] = {".obj", ".ply", ".off"};
+  for (const auto& input : corpus("repair")) {
+    const std::string bytes = bytes_of(input);
+    if (bytes.empty()) continue;
+    const auto path = dir / (std::string("input") + extensions[static_cast<unsigned char>(bytes[0]) % 3]);
+    testing::write_text(path, bytes.substr(1));
+    expect_clean(input, [&] {
+      const core::Mesh mesh = core::read_reconstruction(path, 1);
+      const core::MeshCheck check = core::check_mesh(mesh);
+      EXPECT_TRUE(check.closed() && check.manifold() && core::count_pinch_vertices(mesh) == 0)
+          << input << ": " << check.summary();
+    });
   }
 }
 
