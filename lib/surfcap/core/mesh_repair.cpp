@@ -204,7 +204,12 @@ void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& inp
     const std::size_t piece = pieces.of[surface.face(surface.opposite(holes[k]))];
     std::vector<SurfaceMesh::Face_index> added;
     PMP::triangulate_hole(surface, holes[k], std::back_inserter(added));
-    if (added.empty())
+    // Where CGAL finds no triangulation it may close the loop with one polygon (or a two-sided
+    // face for a loop of two edges): that is no repair.
+    const bool triangles = std::all_of(added.begin(), added.end(), [&](SurfaceMesh::Face_index f) {
+      return CGAL::halfedges_around_face(surface.halfedge(f), surface).size() == 3;
+    });
+    if (added.empty() || !triangles)
       throw bad_input(source, "a hole of " + std::to_string(sizes[k]) + " boundary edges could not be triangulated",
                       frame);
     for (const auto f : added) pieces.of[f] = piece;
@@ -224,8 +229,12 @@ Mesh extract(const SurfaceMesh& surface, const Pieces& pieces, const Soup& soup,
   for (const auto f : surface.faces()) {
     if (pieces.debris[pieces.of[f]]) continue;
     std::array<long, 3> corners{};
-    int k = 0;
-    for (const auto v : CGAL::vertices_around_face(surface.halfedge(f), surface)) corners[k++] = v.idx();
+    std::size_t k = 0;
+    for (const auto v : CGAL::vertices_around_face(surface.halfedge(f), surface)) {
+      if (k == corners.size()) throw internal_error("mesh repair: a face with more than three corners");
+      corners[k++] = v.idx();
+    }
+    if (k != corners.size()) throw internal_error("mesh repair: a face with fewer than three corners");
     for (const long v : corners) new_index[static_cast<std::size_t>(v)] = 0;
     faces.push_back(corners);
     piece.push_back(pieces.of[f]);

@@ -41,14 +41,17 @@ TEST(Body, TemplateIsAClosedManifoldSphereOfTheRequestedSize) {
 TEST(Motion, CyclicMotionsAreCyclic) {
   const auto& actor = tiny_actor();
   const synth::Scene scene = synth::preset_scene("tiny");
+  int cyclic = 0;
   for (const auto& motion : scene.sequences) {
-    ASSERT_TRUE(motion.cyclic());
+    if (!motion.cyclic()) continue;  // the jumps start and end at rest, not on a cycle
+    ++cyclic;
     const Eigen::MatrixXd first = centred(actor.perform(scene, motion, 0));
     const Eigen::MatrixXd wrapped = centred(actor.perform(scene, motion, motion.frames));
     const Eigen::MatrixXd middle = centred(actor.perform(scene, motion, motion.frames / 2));
     EXPECT_LT((first - wrapped).rowwise().norm().maxCoeff(), 1e-6) << motion.name;
     EXPECT_GT((first - middle).rowwise().norm().maxCoeff(), 0.05) << motion.name << " does not move";
   }
+  EXPECT_EQ(cyclic, 2);  // walk and run
 }
 
 TEST(Motion, FamiliesRealiseTheirParameter) {
