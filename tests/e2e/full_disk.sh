@@ -8,9 +8,8 @@ set -euo pipefail
 build=$1
 source=$2
 tools=$build/tools
-for tool in surfcap-synth surfcap-align surfcap-learn surfcap-precompute; do
-  [[ -x $tools/$tool ]] || { echo "SKIP: $tool is not built"; exit 77; }
-done
+source "$(dirname "$0")/support/common.bash"
+require_tools surfcap-synth surfcap-align surfcap-learn surfcap-precompute
 work=$(mktemp -d "${TMPDIR:-/tmp}/full_disk.XXXXXX")
 mounted=()
 cleanup() {
@@ -20,7 +19,6 @@ cleanup() {
 trap cleanup EXIT
 faults=0
 
-final_files() { [[ -d $1 ]] || return 0; (cd "$1" && find . -type f ! -name '.*' | sed 's|^\./||' | sort); }
 
 # check_failed NAME REFERENCE OUT CODE LOG REPORT EXPECTED_ERROR
 check_failed() {

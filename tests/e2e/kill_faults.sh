@@ -10,9 +10,8 @@ set -euo pipefail
 build=$1
 source=$2
 tools=$build/tools
-for tool in surfcap-synth surfcap-align surfcap-learn surfcap-precompute; do
-  [[ -x $tools/$tool ]] || { echo "SKIP: $tool is not built"; exit 77; }
-done
+source "$(dirname "$0")/support/common.bash"
+require_tools surfcap-synth surfcap-align surfcap-learn surfcap-precompute
 work=$(mktemp -d "${TMPDIR:-/tmp}/kill_faults.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 kills_per_stage=${SURFCAP_KILLS:-3}
@@ -24,8 +23,6 @@ hidden=0
 use_strace=0
 if command -v strace > /dev/null && strace -qq -o /dev/null -e inject=getpid:retval=0 true 2> /dev/null; then use_strace=1; fi
 
-# Files under final names (hidden temporaries of atomic writes excluded), relative to $1.
-final_files() { [[ -d $1 ]] || return 0; (cd "$1" && find . -type f ! -name '.*' | sed 's|^\./||' | sort); }
 
 # Every final file in $2 must exist in $1 with the same bytes (reports: only well-formed JSON).
 check_complete() {
