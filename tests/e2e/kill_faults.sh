@@ -21,6 +21,8 @@ total_checked=0
 hidden=0
 # strace fault injection when ptrace is allowed here; timed kills otherwise.
 use_strace=0
+# LeakSanitizer cannot run under ptrace: traced runs of a sanitizer build do without it.
+traced_asan=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0
 if command -v strace > /dev/null && strace -qq -o /dev/null -e inject=getpid:retval=0 true 2> /dev/null; then use_strace=1; fi
 
 
@@ -67,7 +69,7 @@ run_killed() {
     IFS=: read -r _ call count <<< "$how"
     local n=$((1 + RANDOM % count))
     local code=0
-    (strace -f -qq -o /dev/null -e trace="$call" -e inject="$call":signal=SIGKILL:when=$n "$@" > /dev/null 2>&1) \
+    (ASAN_OPTIONS=$traced_asan strace -f -qq -o /dev/null -e trace="$call" -e inject="$call":signal=SIGKILL:when=$n "$@" > /dev/null 2>&1) \
       2> /dev/null || code=$?
     [[ $code -ne 0 ]] && total_kills=$((total_kills + 1))
     point="at $call $n of $count"
@@ -97,7 +99,7 @@ stage() {
   seconds=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f", b - a }')
   local ways=("after:$seconds")
   if [[ $use_strace -eq 1 ]]; then
-    strace -f -qq -c -o "$work/calls.txt" -e trace=write,rename "${@//__OUT__/$run}" > /dev/null
+    ASAN_OPTIONS=$traced_asan strace -f -qq -c -o "$work/calls.txt" -e trace=write,rename "${@//__OUT__/$run}" > /dev/null
     rm -rf "$run"
     ways+=("at:write:$(calls "$work/calls.txt" write)" "at:rename:$(calls "$work/calls.txt" rename)")
   fi
