@@ -10,6 +10,7 @@
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/mesh_repair.hpp"
 
 namespace surfcap::align {
 
@@ -172,11 +173,8 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
   const Eigen::MatrixXi& F = registration.database.template_mesh.F;
   for (const long node : nodes) {
     const auto& record = registration.frames[static_cast<std::size_t>(node)];
-    core::MeshRequirements requirements;
-    requirements.allow_non_manifold = true;
-    requirements.allow_zero_area_faces = true;
-    const core::Mesh target = core::read_mesh(
-        capture.mesh_path(capture.sequence_index(record.sequence), record.frame), requirements, record.frame);
+    const core::Mesh target = core::read_reconstruction(
+        capture.mesh_path(capture.sequence_index(record.sequence), record.frame), record.frame);
     const geometry::SurfaceQuery query(target.V, target.F);
     const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(node)];
     const Eigen::VectorXd values = surface_distances(V, query);

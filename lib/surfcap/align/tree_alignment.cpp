@@ -13,6 +13,7 @@
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/json_document.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/core/parallel.hpp"
 
 namespace surfcap::align {
@@ -22,10 +23,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 core::Mesh read_reconstruction(const core::Capture& capture, int sequence, int frame) {
-  core::MeshRequirements requirements;
-  requirements.allow_non_manifold = true;
-  requirements.allow_zero_area_faces = true;
-  return core::read_mesh(capture.mesh_path(sequence, frame), requirements, frame);
+  return core::read_reconstruction(capture.mesh_path(sequence, frame), frame);
 }
 
 struct NodeFrame {
@@ -172,7 +170,8 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
     by_depth[edge.depth].push_back(edge);
     node_depth[static_cast<std::size_t>(edge.child)] = edge.depth;
   }
-  for (const auto& [depth, edges] : by_depth) {
+  for (const auto& level : by_depth) {
+    const auto& edges = level.second;  // not a structured binding: clang 14 cannot capture those
     core::parallel_for(static_cast<long>(edges.size()), options.threads, [&](long i) {
       const auto& edge = edges[static_cast<std::size_t>(i)];
       const auto start = Clock::now();

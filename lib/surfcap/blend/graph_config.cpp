@@ -37,6 +37,7 @@ GraphConfig read_graph_config(const std::filesystem::path& path) {
   try {
     for (const auto& item : json.at("spaces")) {
       SpaceConfig space;
+      space.source = path;
       space.name = item.at("name").get<std::string>();
       for (const auto& sequence : item.at("sequences")) {
         SequenceRange range;

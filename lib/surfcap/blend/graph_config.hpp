@@ -32,6 +32,7 @@ struct SpaceConfig {
   int frames = 0;             ///< normalised frames; 0: the first sequence's frame count
   double tolerance_mm = 5.0;  ///< ε of the hybrid bisection
   int degree = 2;             ///< parameter map polynomial degree
+  std::filesystem::path source = "graph config";  ///< the file it was read from, for messages
 };
 
 struct TransitionConfig {

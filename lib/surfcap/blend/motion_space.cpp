@@ -101,18 +101,18 @@ MotionSpace build_motion_space(const core::AlignedDatabase& database, const Nonl
   std::vector<std::vector<core::RootMotion>> range_roots;
   for (const SequenceRange& range : config.sequences) {
     const int index = database.sequence_index(range.name);
-    if (index < 0) throw core::bad_input("graph config", "space '" + config.name + "': no sequence '" + range.name + "' in the database");
+    if (index < 0) throw core::bad_input(config.source, "space '" + config.name + "': no sequence '" + range.name + "' in the database");
     const core::AlignedSequence& sequence = database.sequences[index];
     const int last = range.last < 0 ? sequence.frame_count() - 1 : range.last;
     if (range.first < 0 || last >= sequence.frame_count() || last - range.first < 1)
-      throw core::bad_input("graph config", "space '" + config.name + "': bad frame range of '" + range.name + "'");
+      throw core::bad_input(config.source, "space '" + config.name + "': bad frame range of '" + range.name + "'");
     ranges.emplace_back(sequence.frames.begin() + range.first, sequence.frames.begin() + last + 1);
     range_roots.emplace_back(sequence.root_motion.begin() + range.first, sequence.root_motion.begin() + last + 1);
     space.source_frame_counts.push_back(last - range.first + 1);
     space.durations_s.push_back((last - range.first) / database.fps);
   }
   const int T = config.frames > 0 ? config.frames : space.source_frame_counts.front();
-  if (T < 2) throw core::bad_input("graph config", "space '" + config.name + "' needs at least 2 frames");
+  if (T < 2) throw core::bad_input(config.source, "space '" + config.name + "' needs at least 2 frames");
   space.warps = time_warps(ranges, T, options.threads);
   std::vector<std::vector<Eigen::MatrixXd>> warped(ranges.size());
   space.roots.resize(ranges.size());

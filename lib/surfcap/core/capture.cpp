@@ -159,14 +159,14 @@ static Capture read_capture_document(const std::filesystem::path& file) {
   return capture;
 }
 
-std::pair<int, int> png_size(const std::filesystem::path& path) {
+std::pair<int, int> png_size(const std::filesystem::path& path, std::optional<long> frame) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw bad_input(path, "missing image");
+  if (!in) throw bad_input(path, "missing image", frame);
   unsigned char header[24] = {};
   in.read(reinterpret_cast<char*>(header), 24);
   static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (in.gcount() != 24 || !std::equal(signature, signature + 8, header) || std::string(header + 12, header + 16) != "IHDR")
-    throw bad_input(path, "not a PNG image");
+    throw bad_input(path, "not a PNG image", frame);
   auto be32 = [&](int offset) {
     return (header[offset] << 24) | (header[offset + 1] << 16) | (header[offset + 2] << 8) | header[offset + 3];
   };
@@ -185,7 +185,7 @@ void check_capture_files(const Capture& capture) {
         const auto image = capture.image_path(static_cast<int>(s), frame, static_cast<int>(c));
         if (!std::filesystem::exists(image))
           throw bad_input(image, "missing image of camera '" + capture.cameras[c].name + "'", frame);
-        const auto [width, height] = png_size(image);
+        const auto [width, height] = png_size(image, frame);
         if (width != capture.cameras[c].width || height != capture.cameras[c].height)
           throw bad_input(image, "image is " + std::to_string(width) + "×" + std::to_string(height) + ", camera '" +
                                      capture.cameras[c].name + "' is calibrated for " +

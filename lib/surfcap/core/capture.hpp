@@ -64,6 +64,6 @@ std::vector<CaptureCamera> read_cameras(const std::filesystem::path& path);
 void write_cameras(const std::filesystem::path& path, const std::vector<CaptureCamera>& cameras);
 
 /// Width and height from a PNG file's IHDR chunk; bad_input if it is not a PNG.
-std::pair<int, int> png_size(const std::filesystem::path& path);
+std::pair<int, int> png_size(const std::filesystem::path& path, std::optional<long> frame = std::nullopt);
 
 }  // namespace surfcap::core

@@ -321,14 +321,17 @@ void precheck_obj(const std::filesystem::path& path, std::optional<long> frame) 
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
-    if (keyword == "v" || keyword == "vt" || keyword == "vn") {
+    if (keyword == "v" || keyword == "vt" || keyword == "vn" || keyword == "vc") {
+      // "vc r g b" is OpenMesh's per-vertex colour line: every value of it is a colour.
+      const int first_colour = keyword == "v" ? 3 : keyword == "vc" ? 0 : -1;
       int index = 0;
       for (std::string token; words >> token; ++index) {
         double value = 0;
         if (!parse_finite(token, value)) fail("NaN/Inf or malformed number '" + token + "'");
-        if (keyword == "v" && index >= 3 && !(value >= 0 && value <= 1)) fail("vertex colour " + token + " outside [0, 1]");
+        if (first_colour >= 0 && index >= first_colour && !(value >= 0 && value <= 1))
+          fail("vertex colour " + token + " outside [0, 1]");
       }
-      ++counts[keyword == "v" ? 0 : keyword == "vt" ? 1 : 2];
+      if (keyword != "vc") ++counts[keyword == "v" ? 0 : keyword == "vt" ? 1 : 2];
     } else if (keyword == "f") {
       // OpenMesh indexes its arrays with these without checking: each must name an earlier element.
       for (std::string token; words >> token;) {

@@ -6,6 +6,7 @@
 
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/core/npy.hpp"
 #include "surfcap/core/parallel.hpp"
 
@@ -58,14 +59,11 @@ HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogr
       jobs.emplace_back(static_cast<int>(s), frame);
   }
   set.histograms.resize(static_cast<long>(jobs.size()), options.size());
-  core::MeshRequirements tolerant;
-  tolerant.allow_non_manifold = true;
-  tolerant.allow_zero_area_faces = true;
   std::atomic<std::size_t> done{0};
   core::parallel_for(static_cast<long>(jobs.size()), threads, [&](long job) {
     const auto [sequence, frame] = jobs[static_cast<std::size_t>(job)];
     const auto path = capture.mesh_path(sequence, frame);
-    const core::Mesh mesh = core::read_mesh(path, tolerant, frame);
+    const core::Mesh mesh = core::read_reconstruction(path, frame);
     try {
       set.histograms.row(job) = shape_histogram(mesh, options).cast<float>().transpose();
     } catch (const core::Error& e) {

@@ -78,5 +78,18 @@ TEST(Cli, OptionsJsonMirrorsEffectiveValues) {
   EXPECT_EQ(options["log-level"], "info");
 }
 
+TEST(Cli, ProvenanceLeavesOutWhatCannotChangeAnOutput) {
+  core::ToolApp app("surfcap-test", "test tool");
+  double tolerance = 5.0;
+  app.cli().add_option("--tolerance-mm", tolerance, "Tolerance in mm");
+  const char* argv[] = {"surfcap-test", "--tolerance-mm", "7", "--threads", "2", "--log-level", "warn"};
+  core::Json options;
+  EXPECT_EQ(app.run(7, argv, [&] { options = app.provenance_json(); }), 0);
+  EXPECT_EQ(options["tolerance-mm"], 7);
+  EXPECT_FALSE(options.contains("threads"));
+  EXPECT_FALSE(options.contains("log-level"));
+  EXPECT_FALSE(options.contains("log-json"));
+}
+
 }  // namespace
 }  // namespace surfcap

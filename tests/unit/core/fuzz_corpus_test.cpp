@@ -3,6 +3,7 @@
 // fail with a core::Error (exit code 3 or 4), never crash or throw anything else.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <fstream>
 #include <sstream>
 
@@ -11,6 +12,7 @@
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/core/npy.hpp"
 #include "test_support.hpp"
 
@@ -43,16 +45,33 @@ void expect_clean(const std::filesystem::path& input, Read read) {
   }
 }
 
-TEST(FuzzCorpus, MeshInputs) {
-  testing::TemporaryDirectory dir("fuzz_mesh");
-  const char* extensions[] = {".ply", ".obj", ".off"};
-  for (const auto& input : corpus("mesh")) {
+/// Mesh seeds: the first byte picks the extension from `extensions` (as the fuzz target does),
+/// the rest is the file; `read` gets the written path.
+template <class Read>
+void for_each_mesh_seed(const std::string& target, const std::array<const char*, 3>& extensions, Read read) {
+  testing::TemporaryDirectory dir("fuzz_" + target);
+  for (const auto& input : corpus(target)) {
     const std::string bytes = bytes_of(input);
     if (bytes.empty()) continue;
     const auto path = dir / (std::string("input") + extensions[static_cast<unsigned char>(bytes[0]) % 3]);
     testing::write_text(path, bytes.substr(1));
-    expect_clean(input, [&] { core::read_mesh(path); });
+    expect_clean(input, [&] { read(input, path); });
   }
+}
+
+TEST(FuzzCorpus, MeshInputs) {
+  for_each_mesh_seed("mesh", {".ply", ".obj", ".off"},
+                     [](const std::filesystem::path&, const std::filesystem::path& path) { core::read_mesh(path); });
+}
+
+TEST(FuzzCorpus, RepairInputs) {
+  for_each_mesh_seed("repair", {".obj", ".ply", ".off"},
+                     [](const std::filesystem::path& input, const std::filesystem::path& path) {
+                       const core::Mesh mesh = core::read_reconstruction(path, 1);
+                       const core::MeshCheck check = core::check_mesh(mesh);
+                       EXPECT_TRUE(check.closed() && check.manifold() && core::count_pinch_vertices(mesh) == 0)
+                           << input << ": " << check.summary();
+                     });
 }
 
 TEST(FuzzCorpus, NpyInputs) {
