@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
-# The runtime end to end on the synthetic tiny capture (its ground-truth database, to stay fast):
-# synth → learn → precompute spaces → transitions (whole and sharded: same bytes) → export →
-# play a timeline with --check-exact: every checked frame within ε of the exact non-linear blend,
+# The runtime end to end on the synthetic tiny capture: synth → align (geometry only, one level:
+# accuracy is align_tiny's business; this keeps it to seconds) → learn → precompute spaces →
+# transitions (whole and sharded: same bytes) → export → play a timeline with --check-exact: every checked frame within ε of the exact non-linear blend,
 # the outputs, the report and the exit codes. Usage: bash runtime_tiny.sh <build_dir> <source_dir>
 set -euo pipefail
 build=$1
 source=$2
 tools=$build/tools
-for tool in surfcap-synth surfcap-learn surfcap-precompute surfcap-play; do
+for tool in surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-play; do
   [[ -x $tools/$tool ]] || { echo "SKIP: $tool is not built"; exit 77; }
 done
 work=$(mktemp -d "$build/runtime_e2e.XXXXXX")
@@ -15,7 +15,9 @@ trap 'rm -rf "$work"' EXIT
 graph_config=$source/configs/graphs/tiny.json
 
 "$tools/surfcap-synth" --preset tiny --no-images --out "$work/capture" --threads 2 > "$work/log" 2>&1
-database=$work/capture/ground_truth/database/database.json
+"$tools/surfcap-align" --threads 2 run --capture "$work/capture" --out "$work/db" --no-images --levels 1 \
+  --rotation-iterations 1 --dense-iterations 1 --surface-model --log-level warn >> "$work/log" 2>&1
+database=$work/db/database.json
 "$tools/surfcap-learn" --threads 2 learn --database "$database" --parts "$source/configs/parts/human6.json" \
   --examples 8 --output "$work/model" >> "$work/log" 2>&1
 "$tools/surfcap-precompute" --threads 2 spaces --database "$database" --graph "$graph_config" --output "$work/out" \
