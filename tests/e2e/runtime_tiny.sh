@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The runtime end to end on the synthetic tiny capture: synth → align (geometry only, one level:
 # accuracy is align_tiny's business; this keeps it to seconds) → learn → precompute spaces →
-# transitions (whole and sharded: same bytes) → export → play a timeline with --check-exact: every checked frame within ε of the exact non-linear blend,
-# the outputs, the report and the exit codes. Usage: bash runtime_tiny.sh <build_dir> <source_dir>
+# transitions (whole and sharded: same bytes) → export → play a timeline with --check-exact:
+# every checked frame within ε of the exact non-linear blend, the outputs, the report and the
+# exit codes. Usage: bash runtime_tiny.sh <build_dir> <source_dir>
 set -euo pipefail
 build=$1
 source=$2
