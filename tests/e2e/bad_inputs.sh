@@ -11,9 +11,8 @@ set -euo pipefail
 build=$1
 source=$2
 tools=$build/tools
-for tool in surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-edit; do
-  [[ -x $tools/$tool ]] || { echo "SKIP: $tool is not built"; exit 77; }
-done
+source "$(dirname "$0")/support/common.bash"
+require_tools surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-edit
 work=$(mktemp -d "${TMPDIR:-/tmp}/bad_inputs.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 valid=$work/valid

@@ -8,9 +8,8 @@ set -euo pipefail
 build=$1
 source=$2
 tools=$build/tools
-for tool in surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-play; do
-  [[ -x $tools/$tool ]] || { echo "SKIP: $tool is not built"; exit 77; }
-done
+source "$(dirname "$0")/support/common.bash"
+require_tools surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-play
 work=$(mktemp -d "$build/runtime_e2e.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 graph_config=$source/configs/graphs/tiny.json
