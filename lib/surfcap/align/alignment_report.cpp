@@ -87,7 +87,8 @@ core::Json alignment_figures(const Registration& registration) {
                       {"max_residual_m", a.max_residual},
                       {"uncovered_fraction", a.uncovered_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
-                                           {"feature", a.feature_constraints}, {"color", a.color_constraints}}},
+                                           {"feature", a.feature_constraints}, {"color", a.color_constraints},
+                                           {"coverage", a.coverage_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
                       {"accepted_patches", a.accepted_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
@@ -116,7 +117,8 @@ core::Json alignment_figures(const Registration& registration) {
                        {"deformer", registration.deformer_model},
                        {"volume_vertices", registration.volume_vertices},
                        {"elements", registration.elements},
-                       {"template_seconds", registration.seconds_template}}}};
+                       {"template_seconds", registration.seconds_template},
+                       {"appearance_coverage", registration.appearance_coverage}}}};
 }
 
 std::vector<long> preview_nodes(const Registration& registration, int count) {

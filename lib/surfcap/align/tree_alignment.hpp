@@ -79,6 +79,7 @@ struct Registration {
   std::string deformer_model;
   long volume_vertices = 0, elements = 0;
   double seconds_template = 0;
+  double appearance_coverage = 0;  ///< template faces seen by a root camera (0: no appearance flow)
 };
 
 /// Root motion of an aligned frame relative to the template at rest: centroid (x, y, z) and the
