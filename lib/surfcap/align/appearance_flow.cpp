@@ -79,6 +79,7 @@ void FlowOptions::validate() const {
   require(iterations >= 0, "flow iterations must be ≥ 0");
   require(stride >= 1 && stride <= 16, "flow stride must be in 1..16");
   require(consistency_px > 0, "flow consistency must be > 0 pixels");
+  require(margin_px >= 0, "flow margin must be ≥ 0 pixels");
   require(max_offset_edges > 0 && visibility_edges > 0, "flow distances must be > 0");
   require(min_facing >= 0 && min_facing < 1, "flow minimum facing must be in [0, 1)");
 }
@@ -228,20 +229,33 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
     for (std::size_t i = 0; i < predicted.pixels.size(); ++i)
       if (seen.face[i] >= 0 && valid[i] == 0) predicted.pixels[i] = fill;
 
-    const cv::Mat from = to_mat(predicted), to = to_mat(actual);
+    // Flow only in the template's bounding box (plus a margin for the motion): the actor covers a
+    // small part of a studio image.
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0) {
+          x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+    const int margin = options.margin_px;
+    x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
+    x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
+    const cv::Rect box(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+    const cv::Mat from = to_mat(predicted)(box).clone(), to = to_mat(actual)(box).clone();
     cv::Mat forward, backward;
     dis->calc(from, to, forward);
     dis->calc(to, from, backward);
     const double tolerance2 = options.consistency_px * options.consistency_px;
-    for (int y = 0; y < h; y += options.stride)
-      for (int x = 0; x < w; x += options.stride) {
+    for (int y = y0; y <= y1; y += options.stride)
+      for (int x = x0; x <= x1; x += options.stride) {
         const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
         if (valid[i] != 1) continue;
-        const cv::Point2f flow = forward.at<cv::Point2f>(y, x);
+        const cv::Point2f flow = forward.at<cv::Point2f>(y - y0, x - x0);
         const double qx = x + flow.x, qy = y + flow.y;
-        if (!(qx >= 0 && qy >= 0 && qx <= w - 1 && qy <= h - 1)) continue;
+        if (!(qx >= x0 && qy >= y0 && qx <= x1 && qy <= y1)) continue;
         // Forward-backward check at the nearest pixel of the moved point.
-        const cv::Point2f back = backward.at<cv::Point2f>(static_cast<int>(std::lround(qy)), static_cast<int>(std::lround(qx)));
+        const cv::Point2f back = backward.at<cv::Point2f>(static_cast<int>(std::lround(qy)) - y0,
+                                                          static_cast<int>(std::lround(qx)) - x0);
         const double ex = flow.x + back.x, ey = flow.y + back.y;
         if (ex * ex + ey * ey > tolerance2) continue;
         const Eigen::Vector3d ray = pixel_ray(camera, qx, qy);

@@ -24,6 +24,7 @@ struct FlowOptions {
   int iterations = 3;              ///< flow iterations after the dense fit (render, flow, solve)
   int patch_levels = 0;            ///< also at the last this many rigid-patch levels (with the patch targets)
   int stride = 1;                  ///< pixel step of the constraint grid
+  int margin_px = 24;              ///< flow is computed in the template's image bounding box plus this margin
   double consistency_px = 0.5;     ///< max disagreement of the forward and backward flow, pixels
   double max_offset_edges = 2.0;   ///< a target farther than this from its template point is dropped (mean edges)
   double min_facing = 0.3;         ///< cosine between surface normal and view ray (root, template and child)
@@ -84,7 +85,7 @@ struct FlowTargets {
 /// Flow targets for the template surface `surface` (n×3, faces F) against the child's camera images
 /// (`child_images`, the capture's camera order) and reconstruction `child`. Per vertex, the target is
 /// the component-wise weighted median of the offsets of the accepted pixels on its faces.
-/// Deterministic: cameras in order, single-threaded flow.
+/// Deterministic: cameras in order (OpenCV's DIS splits its work into fixed stripes).
 FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
                          const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
                          const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options);

@@ -136,7 +136,7 @@ core::Json PairwiseOptions::to_json() const {
           {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges},
           {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
           {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
-                    {"consistency_px", flow.consistency_px}, {"max_offset_edges", flow.max_offset_edges},
+                    {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
                     {"min_facing", flow.min_facing}, {"visibility_edges", flow.visibility_edges},
                     {"normal_compatibility", flow.normal_compatibility}}},
           {"features", {{"max_per_image", features.max_per_image}, {"ratio", features.ratio},

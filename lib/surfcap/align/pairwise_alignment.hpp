@@ -41,7 +41,7 @@ struct PairwiseOptions {
   FeatureOptions features;
   /// Coverage constraints: reconstruction vertices left uncovered by the aligned template pull their
   /// closest template point, with this weight per vertex (≤ 0: off).
-  double coverage_weight = 1.0;
+  double coverage_weight = 3.0;
   /// Dense optical flow against the root frame's appearance (appearance_flow.hpp): iterations after
   /// the dense fit, when the template's root appearance and the child's images are given.
   FlowOptions flow;
