@@ -6,6 +6,7 @@
 
 #include "surfcap/asset/character.hpp"
 #include "surfcap/asset/glb_model.hpp"
+#include "surfcap/core/json_integer.hpp"
 
 namespace surfcap::asset::detail {
 

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "surfcap/asset/glb_extension.hpp"
+#include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/blend/stored_space.hpp"
 
 namespace surfcap::asset::detail {
@@ -97,7 +98,7 @@ CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors,
                                           what + " timeWarp");
   read_displacements(core::get_field<core::Json>(json, "displacements", source), accessors, character.vertex_count(), space);
   if (json.contains("parameterMap")) space.parameter_map =
-        blend::parameter_map_from_json(json["parameterMap"], source, blend::ParameterMapKeys::gltf, space.dimensions);
+        blend::read_parameter_map(json["parameterMap"], source, blend::ParameterMapKeys::gltf, space.dimensions);
   space.tolerance_mm = core::get_field<double>(json, "toleranceMm", source);
   space.max_error_mm = core::get_field<double>(json, "maxErrorMm", source);
   blend::check_stored_space(space, source);  // the invariants space.json readers check too

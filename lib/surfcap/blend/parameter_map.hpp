@@ -3,7 +3,6 @@
 // each sample's high-level parameters p are measured, and a polynomial of total degree ≤ degree
 // in p is fitted by least squares to each weight-space coordinate u_a.
 #include <Eigen/Core>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -24,17 +23,6 @@ struct ParameterMap {
   std::vector<double> weights_for(const std::vector<double>& p) const;
   core::Json to_json() const;
 };
-
-/// The spellings of a parameter map's keys: space.json/graph.json (snake_case, residuals optional)
-/// or the .glb's SURFCAP_motion_graph extension (camelCase, residuals required).
-enum class ParameterMapKeys { space_json, gltf };
-
-/// Parses a parameter map (ParameterMap::to_json, or its .glb form), checked throughout: degree an
-/// integer in [0, 16]; one name, coefficient row and [min, max] range per axis (`dimensions`
-/// axes, -1: as many as names); each monomial `dimensions` integer exponents ≥ 0 of total degree
-/// ≤ degree. bad_input (exit 3) naming `file` otherwise.
-ParameterMap parameter_map_from_json(const core::Json& json, const std::filesystem::path& file,
-                                     ParameterMapKeys keys = ParameterMapKeys::space_json, int dimensions = -1);
 
 /// Monomials of total degree ≤ degree in `variables` variables, in graded lexicographic order.
 std::vector<std::vector<int>> polynomial_terms(int variables, int degree);

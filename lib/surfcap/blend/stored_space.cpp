@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/npy.hpp"
 
@@ -25,6 +26,10 @@ std::vector<std::vector<double>> matrix_field(const core::Json& entry, const cha
 long StoredSpace::vertex_count() const {
   const long per_vertex = static_cast<long>(source_count()) * frames * 3;
   return per_vertex > 0 ? static_cast<long>(references.size()) / per_vertex : 0;
+}
+
+ParameterMap parameter_map_from_json(const core::Json& json, const std::filesystem::path& file) {
+  return read_parameter_map(json, file, ParameterMapKeys::space_json);
 }
 
 StoredSpace stored_space_from_entry(const core::Json& entry, const std::filesystem::path& output,

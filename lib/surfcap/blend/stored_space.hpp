@@ -48,6 +48,9 @@ struct StoredSpace {
   long vertex_count() const;
 };
 
+/// Parses a "parameter_map" object of space.json; bad_input names `file`.
+ParameterMap parameter_map_from_json(const core::Json& json, const std::filesystem::path& file);
+
 /// Reads <output>/spaces/<name>/space.json and every array it names (paths relative to
 /// `output`), checking shapes against each other and, when `vertices` > 0, the vertex count.
 StoredSpace read_stored_space(const std::filesystem::path& output, const std::string& name, long vertices = 0);

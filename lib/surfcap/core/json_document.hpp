@@ -2,7 +2,6 @@
 // surfcap metadata files: JSON objects carrying "format": "surfcap.<kind>/<version>".
 
 #include <filesystem>
-#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -30,14 +29,6 @@ void write_json_file(const std::filesystem::path& path, const Json& document);
 /// Typed field access with errors naming the file and the JSON pointer of the field.
 template <class T>
 T get_field(const Json& object, std::string_view key, const std::filesystem::path& file);
-
-/// `value` as an integer in [min, max]; bad_input naming `file` and `what` otherwise (get<int>()
-/// silently truncates a float and wraps a number too large for an int).
-long checked_integer(const Json& value, std::string_view what, const std::filesystem::path& file,
-                     long min = std::numeric_limits<int>::min(), long max = std::numeric_limits<int>::max());
-/// The integer object[key] within [min, max]; bad_input when missing or otherwise.
-long integer_field(const Json& object, std::string_view key, const std::filesystem::path& file,
-                   long min = std::numeric_limits<int>::min(), long max = std::numeric_limits<int>::max());
 
 }  // namespace surfcap::core
 

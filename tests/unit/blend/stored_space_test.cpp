@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/core/error.hpp"
 #include "synthetic_space.hpp"
 
@@ -86,11 +87,11 @@ TEST(StoredSpace, ParameterMapExponentsAreCheckedIntegers) {
   gltf["parameterRange"] = gltf["parameter_range"];
   gltf["residualRms"] = gltf["residual_rms"];
   gltf["residualMax"] = gltf["residual_max"];
-  EXPECT_EQ(blend::parameter_map_from_json(gltf, "c.glb", blend::ParameterMapKeys::gltf, 1).monomials,
+  EXPECT_EQ(blend::read_parameter_map(gltf, "c.glb", blend::ParameterMapKeys::gltf, 1).monomials,
             space.parameter_map->monomials);
-  EXPECT_THROW(blend::parameter_map_from_json(gltf, "c.glb", blend::ParameterMapKeys::gltf, 2), core::Error);
+  EXPECT_THROW(blend::read_parameter_map(gltf, "c.glb", blend::ParameterMapKeys::gltf, 2), core::Error);
   gltf["monomials"][1][0] = -1;
-  EXPECT_THROW(blend::parameter_map_from_json(gltf, "c.glb", blend::ParameterMapKeys::gltf, 1), core::Error);
+  EXPECT_THROW(blend::read_parameter_map(gltf, "c.glb", blend::ParameterMapKeys::gltf, 1), core::Error);
 }
 
 }  // namespace

@@ -119,18 +119,27 @@ TEST(AtomicFile, NextWriterRemovesWhatKilledRunsLeftButNotLiveWriters) {
   int ready[2], go[2];
   ASSERT_EQ(::pipe(ready), 0);
   ASSERT_EQ(::pipe(go), 0);
-  char byte;
-  // A run killed in the middle of writing killed.bin ...
+  char byte = 1;
+  // A live writer of live.bin (started first: its own clean-up sees an empty directory) ...
+  const pid_t live = child_writing(dir / "live.bin", ready[1], go[0]);
+  struct Reaper {  // never leave the live child blocked, whatever fails below
+    pid_t pid;
+    ~Reaper() {
+      if (pid > 0 && ::kill(pid, SIGKILL) == 0) ::waitpid(pid, nullptr, 0);
+    }
+  } reaper{live};
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  // ... a run killed in the middle of writing killed.bin ...
   const pid_t killed = child_writing(dir / "killed.bin", ready[1], -1);
   ASSERT_EQ(::read(ready[0], &byte, 1), 1);
   int status = 0;
   ::waitpid(killed, &status, 0);
   ASSERT_TRUE(WIFSIGNALED(status));
-  const auto stale = hidden_files(dir.path());
+  std::vector<std::filesystem::path> stale;
+  for (const auto& file : hidden_files(dir.path()))
+    if (file.filename().string().starts_with(".killed.bin.tmp-")) stale.push_back(file);
   ASSERT_EQ(stale.size(), 1u);
-  // ... a live writer of live.bin, and a dead process's temporary from another host (shared disk).
-  const pid_t live = child_writing(dir / "live.bin", ready[1], go[0]);
-  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  // ... and a dead process's temporary written from another host (a shared disk).
   const auto other_host = dir / (".x.bin.tmp-another-host-" + std::to_string(killed) + "-0");
   std::filesystem::copy_file(stale[0], other_host);
   // All of them last written before this process started (a previous run).
@@ -145,6 +154,7 @@ TEST(AtomicFile, NextWriterRemovesWhatKilledRunsLeftButNotLiveWriters) {
   // The live writer still completes.
   ASSERT_EQ(::write(go[1], &byte, 1), 1);
   ::waitpid(live, &status, 0);
+  reaper.pid = -1;
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
   EXPECT_EQ(core::read_file(dir / "live.bin"), "complete");
