@@ -6,7 +6,7 @@ find_package(spdlog REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(OpenMP REQUIRED)
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d video)
 # flann's pkg-config file asks for -lhdf5; its CMake config does not.
 find_package(flann REQUIRED CONFIG)
 find_package(CGAL REQUIRED)

@@ -8,6 +8,7 @@
 
 #include "../unit/align/deformable_shape.hpp"
 #include "../unit/align/textured_capture.hpp"
+#include "surfcap/align/appearance_flow.hpp"
 #include "surfcap/align/feature_constraints.hpp"
 #include "surfcap/align/image_features.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
@@ -78,5 +79,36 @@ void BM_FeatureDetectionAndMatching(benchmark::State& state) {
   state.counters["matching_per_pair_s"] = matching / n;
 }
 BENCHMARK(BM_FeatureDetectionAndMatching)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// One appearance-flow iteration's correspondences (render the estimate with the root appearance,
+// DIS flow forward and backward, ray casts) for 8 cameras at 640×640, and the root appearance
+// (8 visibility renderings), one core. An alignment runs 3 flow iterations per edge.
+void BM_AppearanceFlow(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const align::testing::TexturedCapture scene("flow_bench", 8, 640);
+  const geometry::SurfaceQuery child(scene.frames[1], scene.rest.F);
+  const align::FlowOptions options;
+  const double edge = 0.02;
+  const std::vector<align::GreyImage> child_images = align::read_grey_images(scene.capture, 0, 1);
+  const Eigen::MatrixXd estimate = scene.frames[1].rowwise() + Eigen::RowVector3d(0.006, 0.004, 0.0);
+  double appearance = 0, flow = 0;
+  long iterations = 0, pixels = 0;
+  for (auto _ : state) {
+    auto start = std::chrono::steady_clock::now();
+    const align::TemplateAppearance root(scene.rest, align::capture_cameras(scene.capture),
+                                         align::read_grey_images(scene.capture, 0, 0), edge, options);
+    appearance += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    start = std::chrono::steady_clock::now();
+    const align::FlowTargets targets = align::flow_targets(root, estimate, scene.rest.F, child_images, child, edge, options);
+    flow += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pixels = targets.pixels;
+    ++iterations;
+  }
+  const double n = static_cast<double>(iterations);
+  state.counters["pixels"] = static_cast<double>(pixels);
+  state.counters["appearance_s"] = appearance / n;
+  state.counters["flow_iteration_s"] = flow / n;
+}
+BENCHMARK(BM_AppearanceFlow)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace

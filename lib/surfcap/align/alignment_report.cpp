@@ -66,7 +66,7 @@ cv::Mat render_panel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const E
 core::Json alignment_figures(const Registration& registration) {
   core::Json frames = core::Json::array();
   double mean_sum = 0, worst = 0;
-  long patch = 0, dense = 0, feature = 0;
+  long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
   int max_depth = 0;
   long retried = 0, unrecovered = 0;
   for (const auto& record : registration.frames) {
@@ -87,7 +87,8 @@ core::Json alignment_figures(const Registration& registration) {
                       {"max_residual_m", a.max_residual},
                       {"uncovered_fraction", a.uncovered_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
-                                           {"feature", a.feature_constraints}, {"color", a.color_constraints}}},
+                                           {"feature", a.feature_constraints}, {"color", a.color_constraints},
+                                           {"coverage", a.coverage_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
                       {"accepted_patches", a.accepted_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
@@ -102,6 +103,8 @@ core::Json alignment_figures(const Registration& registration) {
     patch += a.patch_constraints;
     dense += a.dense_constraints;
     feature += a.feature_constraints;
+    coverage += a.coverage_constraints;
+    flow += a.flow_vertices;
     max_depth = std::max(max_depth, record.depth);
   }
   const double count = std::max<double>(1.0, static_cast<double>(registration.frames.size()));
@@ -112,11 +115,13 @@ core::Json alignment_figures(const Registration& registration) {
                        {"max_depth", max_depth},
                        {"frames_with_failed_attempts", retried},
                        {"frames_unrecovered", unrecovered},
-                       {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature}}},
+                       {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature},
+                                           {"coverage", coverage}, {"flow", flow}}},
                        {"deformer", registration.deformer_model},
                        {"volume_vertices", registration.volume_vertices},
                        {"elements", registration.elements},
-                       {"template_seconds", registration.seconds_template}}}};
+                       {"template_seconds", registration.seconds_template},
+                       {"appearance_coverage", registration.appearance_coverage}}}};
 }
 
 std::vector<long> preview_nodes(const Registration& registration, int count) {

@@ -123,6 +123,7 @@ void PairwiseOptions::validate() const {
   require(heading_samples >= 1, "heading samples must be ≥ 1");
   require(features.ratio > 0 && features.ratio <= 1, "feature ratio must be in (0, 1]");
   require(features.max_per_image >= 1, "features per image must be ≥ 1");
+  flow.validate();
 }
 
 core::Json PairwiseOptions::to_json() const {
@@ -133,7 +134,11 @@ core::Json PairwiseOptions::to_json() const {
           {"normal_compatibility", normal_compatibility}, {"coarse_distance", coarse_distance},
           {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples},
           {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges},
-          {"feature_weight", feature_weight},
+          {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
+          {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
+                    {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
+                    {"min_facing", flow.min_facing}, {"visibility_edges", flow.visibility_edges},
+                    {"normal_compatibility", flow.normal_compatibility}}},
           {"features", {{"max_per_image", features.max_per_image}, {"ratio", features.ratio},
                         {"neighbours", features.neighbours}, {"neighbour_tolerance", features.neighbour_tolerance},
                         {"max_displacement", features.max_displacement}, {"min_facing", features.min_facing}}}};
@@ -195,6 +200,44 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     result.timings.solves += seconds_since(begin);
   };
 
+  // Appearance flow (drift-free, dense): where the child's images show each template point, by
+  // optical flow from the template rendered with the root frame's appearance; overrides other targets.
+  const bool use_flow = options.flow.weight > 0 && features.appearance != nullptr && features.child_images != nullptr &&
+                        !features.child_images->empty();
+  auto add_flow_targets = [&](const Eigen::MatrixXd& surface, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {
+    const FlowTargets flow = flow_targets(*features.appearance, surface, F, *features.child_images, target,
+                                          model.mean_edge(), options.flow);
+    result.flow_pixels = flow.pixels;
+    result.flow_vertices = 0;
+    for (long v = 0; v < surface_count; ++v) {
+      if (flow.support(v) <= 0) continue;
+      targets.row(v) = flow.targets.row(v);
+      weights(v) = options.flow.weight * std::min(1.0, flow.support(v));
+      ++result.flow_vertices;
+    }
+  };
+
+  // Coverage (child → template) constraints: every reconstruction vertex farther than the uncovered
+  // gate from the aligned template (but within `reach`) pulls its closest template point towards it,
+  // so that a limb left behind or collapsed onto another is drawn to the part it should cover.
+  const Eigen::MatrixXd target_normals = core::vertex_normals(target.vertices(), target.faces());
+  auto add_coverage_targets = [&](const Eigen::MatrixXd& surface, double reach, Eigen::MatrixXd& targets,
+                                  Eigen::VectorXd& weights) {
+    if (options.coverage_weight <= 0) return;
+    const geometry::SurfaceQuery aligned(surface, F);
+    const double gate = options.uncovered_distance_edges * model.mean_edge();
+    std::vector<FeatureConstraint> pulls;
+    for (long i = 0; i < target.vertices().rows(); ++i) {
+      const Eigen::Vector3d x = target.vertices().row(i).transpose();
+      const geometry::SurfacePoint closest = aligned.closest_point(x);
+      if (closest.face < 0 || closest.distance <= gate || closest.distance > reach) continue;
+      if (aligned.face_normal(closest.face).dot(target_normals.row(i).transpose()) < options.normal_compatibility) continue;
+      pulls.push_back({closest.face, closest.barycentric, x});
+    }
+    result.coverage_constraints = static_cast<long>(pulls.size());
+    add_feature_targets(surface, F, pulls, options.coverage_weight, targets, weights);
+  };
+
   // Coarse-to-fine rigid patch matching (casas2011 §3.2): the patch fits become soft constraints.
   for (std::size_t level = 0; level < model.patches().size(); ++level) {
     start = Clock::now();
@@ -224,6 +267,9 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       }
       result.patch_constraints += static_cast<long>(members.size());
     }
+    if (use_flow && static_cast<int>(level) >= static_cast<int>(model.patches().size()) - options.flow.patch_levels)
+      add_flow_targets(surface, targets, weights);
+    add_coverage_targets(surface, icp.max_distance, targets, weights);
     add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
     result.timings.matching += seconds_since(start);
     if (weights.maxCoeff() > 0) solve(targets, weights);
@@ -236,12 +282,10 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   if (options.color_sigma > 0 && target_colors != nullptr && model.mesh().has_colors() &&
       target_colors->rows() == target.vertices().rows())
     grid = std::make_unique<VertexGrid>(target.vertices(), color_radius);
-  for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
-    start = Clock::now();
-    const Eigen::MatrixXd surface = positions.topRows(surface_count);
+  // Each surface vertex towards its compatible closest point on the reconstruction (or, with
+  // colours, the colour-weighted target near it); returns the number of vertices matched.
+  auto dense_targets = [&](const Eigen::MatrixXd& surface, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {
     const Eigen::MatrixXd normals = core::vertex_normals(surface, F);
-    Eigen::MatrixXd targets = surface;
-    Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
     long matched = 0;
     result.color_constraints = 0;
     for (long v = 0; v < surface_count; ++v) {
@@ -277,11 +321,37 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       weights(v) = options.dense_weight;
       ++matched;
     }
+    return matched;
+  };
+  for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
+    start = Clock::now();
+    const Eigen::MatrixXd surface = positions.topRows(surface_count);
+    Eigen::MatrixXd targets = surface;
+    Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
+    const long matched = dense_targets(surface, targets, weights);
     result.dense_constraints = matched;
+    add_coverage_targets(surface, options.coarse_distance * model.height(), targets, weights);
     add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
     result.timings.matching += seconds_since(start);
     if (matched == 0) break;
     solve(targets, weights);
+  }
+
+  // Appearance-flow iterations after the dense fit.
+  if (use_flow) {
+    for (int iteration = 0; iteration < options.flow.iterations; ++iteration) {
+      start = Clock::now();
+      const Eigen::MatrixXd surface = positions.topRows(surface_count);
+      Eigen::MatrixXd targets = surface;
+      Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
+      result.dense_constraints = dense_targets(surface, targets, weights);
+      add_flow_targets(surface, targets, weights);
+      add_coverage_targets(surface, options.coarse_distance * model.height(), targets, weights);
+      add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
+      result.timings.matching += seconds_since(start);
+      if (weights.maxCoeff() <= 0) break;
+      solve(targets, weights);
+    }
   }
 
   start = Clock::now();

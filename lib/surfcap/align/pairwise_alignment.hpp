@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "surfcap/align/appearance_flow.hpp"
 #include "surfcap/align/image_features.hpp"
 #include "surfcap/align/surface_patches.hpp"
 #include "surfcap/align/volume_deformer.hpp"
@@ -38,6 +39,12 @@ struct PairwiseOptions {
   /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
   double feature_weight = 2.0;
   FeatureOptions features;
+  /// Coverage constraints: reconstruction vertices left uncovered by the aligned template pull their
+  /// closest template point, with this weight per vertex (≤ 0: off).
+  double coverage_weight = 3.0;
+  /// Dense optical flow against the root frame's appearance (appearance_flow.hpp): iterations after
+  /// the dense fit, when the template's root appearance and the child's images are given.
+  FlowOptions flow;
   double uncovered_distance_edges = 1.5;  ///< a reconstruction vertex farther than this from the aligned
                                           ///< template (template mean edges) is uncovered
   /// Throws bad_arguments naming the offending option.
@@ -77,6 +84,9 @@ struct PairwiseResult {
   long dense_constraints = 0;   ///< closest-point constraints of the last dense iteration
   long feature_constraints = 0; ///< image feature matches used (0: geometric only)
   long color_constraints = 0;   ///< dense targets moved by vertex colours (last dense iteration)
+  long coverage_constraints = 0;  ///< uncovered reconstruction vertices pulling the template (last solve)
+  long flow_pixels = 0;         ///< pixel correspondences of the appearance flow (last flow iteration)
+  long flow_vertices = 0;       ///< template vertices with a flow target (last flow iteration)
   int accepted_patches = 0, total_patches = 0;
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
@@ -92,6 +102,9 @@ Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry
 struct FeaturePair {
   const FrameFeatures* parent = nullptr;
   const FrameFeatures* child = nullptr;
+  /// The template's root appearance and the child's camera images (grey): enable the flow iterations.
+  const TemplateAppearance* appearance = nullptr;
+  const std::vector<GreyImage>* child_images = nullptr;
 };
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <algorithm>
 #include <map>
+#include <memory>
 #include <optional>
 #include <Eigen/Dense>
 
@@ -160,6 +161,20 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         detect_frame_features(capture, root.sequence, root.frame, query, options.pairwise.features);
     registration.frames[static_cast<std::size_t>(tree.root)].features = features[static_cast<std::size_t>(tree.root)].size();
   }
+  // The root frame's appearance of the template, for the flow iterations (undistorted images only).
+  std::unique_ptr<TemplateAppearance> appearance;
+  const bool root_has_images = !capture.sequences[static_cast<std::size_t>(root.sequence)].images.empty();
+  if (options.images && options.pairwise.flow.weight > 0 && options.pairwise.flow.iterations > 0 && root_has_images) {
+    if (has_distortion(capture)) {
+      spdlog::warn("cameras.json declares lens distortion: the appearance flow needs undistorted images, not used");
+    } else {
+      appearance = std::make_unique<TemplateAppearance>(template_mesh, capture_cameras(capture),
+                                                        read_grey_images(capture, root.sequence, root.frame),
+                                                        model.mean_edge(), options.pairwise.flow);
+      registration.appearance_coverage = appearance->coverage();
+      spdlog::info("root appearance covers {:.1f}% of the template", 100.0 * appearance->coverage());
+    }
+  }
   std::atomic<std::size_t> done{1};
   if (progress) progress(done, static_cast<std::size_t>(node_count));
 
@@ -181,6 +196,8 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       if (use_features)
         features[static_cast<std::size_t>(edge.child)] =
             detect_frame_features(capture, child.sequence, child.frame, query, options.pairwise.features);
+      const std::vector<GreyImage> child_images =
+          appearance ? read_grey_images(capture, child.sequence, child.frame) : std::vector<GreyImage>{};
       auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
       // > 1: failed. The worse of the residual and the uncovered fraction, relative to their limits.
       const auto failure_score = [&](const PairwiseResult& r) {
@@ -197,8 +214,12 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
                                         geometry::SurfaceQuery(mesh.V, mesh.F), options.pairwise.features);
           parent_features = &other;
         }
-        const FeaturePair pair = use_features ? FeaturePair{parent_features, &features[static_cast<std::size_t>(edge.child)]}
-                                              : FeaturePair{};
+        FeaturePair pair = use_features ? FeaturePair{parent_features, &features[static_cast<std::size_t>(edge.child)]}
+                                        : FeaturePair{};
+        if (appearance) {
+          pair.appearance = appearance.get();
+          pair.child_images = &child_images;
+        }
         try {
           const Eigen::MatrixXd parent = options.parent_surface ? pose_volume(model, options.parent_surface(from))
                                                                 : positions[static_cast<std::size_t>(from)];
@@ -232,7 +253,11 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           const long from = candidates[k].second;
           const std::size_t failures = record.failed_attempts.size();
           std::optional<PairwiseResult> retry = attempt(from);
-          if (retry && (!best || failure_score(*retry) < failure_score(*best))) {
+          // An alternative replaces the tree parent's attempt only if it passes (or the tree
+          // parent's threw): when all fail, the most similar frame's attempt is the safer guess (a
+          // lower failure score is no evidence of a better alignment: dance:5 from its tree parent
+          // 55 mm from the truth at 1.8 % uncovered, from an alternative 154 mm at 1.4 %).
+          if (retry && (!best || failure_score(*retry) <= 1)) {
             best = std::move(retry);
             best_parent = from;
           }

@@ -44,7 +44,7 @@ struct RegisterOptions {
   /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) is aligned again from the next most similar frame
   /// already aligned (a lower depth, by `costs`), up to `retries` times; the best attempt is kept.
   double failure_residual = 0.004;
-  double max_uncovered = 1.0;  ///< or more than this fraction of the reconstruction is not covered (1: off)
+  double max_uncovered = 0.01;  ///< or more than this fraction of the reconstruction is not covered (1: off)
   int retries = 2;
   const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
   /// Diagnostics: when set, every child is aligned from the template surface this returns for its
@@ -79,6 +79,7 @@ struct Registration {
   std::string deformer_model;
   long volume_vertices = 0, elements = 0;
   double seconds_template = 0;
+  double appearance_coverage = 0;  ///< template faces seen by a root camera (0: no appearance flow)
 };
 
 /// Root motion of an aligned frame relative to the template at rest: centroid (x, y, z) and the

@@ -1,0 +1,289 @@
+#include "surfcap/align/appearance_flow.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "surfcap/core/error.hpp"
+#include "surfcap/render/rasterizer.hpp"
+
+namespace surfcap::align {
+
+namespace {
+
+/// World direction of the ray through pixel (x, y) (no distortion).
+Eigen::Vector3d pixel_ray(const render::Camera& camera, double x, double y) {
+  const Eigen::Vector3d p((x - camera.K(0, 2)) / camera.K(0, 0), (y - camera.K(1, 2)) / camera.K(1, 1), 1.0);
+  return (camera.R.transpose() * p).normalized();
+}
+
+Eigen::MatrixXd face_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  Eigen::MatrixXd N(F.rows(), 3);
+  for (long f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double length = n.norm();
+    N.row(f) = length > 0 ? Eigen::RowVector3d((n / length).transpose()) : Eigen::RowVector3d::Zero();
+  }
+  return N;
+}
+
+/// Visible face per pixel and its depth, for `V`,`F` seen by `camera`.
+render::Rendering visibility(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const render::Camera& camera) {
+  core::Mesh mesh;
+  mesh.V = V;
+  mesh.F = F;
+  render::RenderOptions options;
+  options.smooth_normals = false;
+  return render::render_mesh(mesh, camera, options);
+}
+
+cv::Mat to_mat(const GreyImage& image) {
+  cv::Mat mat(image.height, image.width, CV_8U);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      mat.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(std::lround(255.0 * image.at(x, y)), 0L, 255L));
+  return mat;
+}
+
+/// Component-wise weighted median of 3-vectors.
+Eigen::Vector3d weighted_median(std::vector<std::pair<Eigen::Vector3d, double>>& values) {
+  Eigen::Vector3d median;
+  double total = 0;
+  for (const auto& value : values) total += value.second;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::sort(values.begin(), values.end(), [axis](const auto& a, const auto& b) { return a.first(axis) < b.first(axis); });
+    double sum = 0;
+    median(axis) = values.back().first(axis);
+    for (const auto& value : values) {
+      sum += value.second;
+      if (sum >= 0.5 * total) {
+        median(axis) = value.first(axis);
+        break;
+      }
+    }
+  }
+  return median;
+}
+
+}  // namespace
+
+void FlowOptions::validate() const {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw core::bad_arguments(std::string("flow option: ") + what);
+  };
+  require(iterations >= 0, "flow iterations must be ≥ 0");
+  require(stride >= 1 && stride <= 16, "flow stride must be in 1..16");
+  require(consistency_px > 0, "flow consistency must be > 0 pixels");
+  require(margin_px >= 0, "flow margin must be ≥ 0 pixels");
+  require(max_offset_edges > 0 && visibility_edges > 0, "flow distances must be > 0");
+  require(min_facing >= 0 && min_facing < 1, "flow minimum facing must be in [0, 1)");
+}
+
+std::optional<double> GreyImage::sample(double x, double y) const {
+  if (!(x >= 0 && y >= 0 && x <= width - 1 && y <= height - 1)) return std::nullopt;
+  const int x0 = std::min(static_cast<int>(x), width - 2 < 0 ? 0 : width - 2);
+  const int y0 = std::min(static_cast<int>(y), height - 2 < 0 ? 0 : height - 2);
+  const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+  const double fx = x - x0, fy = y - y0;
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) + fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1));
+}
+
+std::vector<GreyImage> read_grey_images(const core::Capture& capture, int sequence, int frame) {
+  std::vector<GreyImage> images;
+  if (capture.sequences[static_cast<std::size_t>(sequence)].images.empty()) return images;
+  for (int c = 0; c < static_cast<int>(capture.cameras.size()); ++c) {
+    const auto path = capture.image_path(sequence, frame, c);
+    const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw core::bad_input(path, "unreadable camera image", frame);
+    const auto& camera = capture.cameras[static_cast<std::size_t>(c)];
+    if (image.cols != camera.width || image.rows != camera.height)
+      throw core::bad_input(path, "image size differs from camera " + camera.name + " in cameras.json", frame);
+    GreyImage grey;
+    grey.width = image.cols;
+    grey.height = image.rows;
+    grey.pixels.resize(static_cast<std::size_t>(image.cols) * static_cast<std::size_t>(image.rows));
+    for (int y = 0; y < image.rows; ++y)
+      for (int x = 0; x < image.cols; ++x)
+        grey.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(image.cols) + static_cast<std::size_t>(x)] =
+            static_cast<float>(image.at<std::uint8_t>(y, x)) / 255.0f;
+    images.push_back(std::move(grey));
+  }
+  return images;
+}
+
+std::vector<render::Camera> capture_cameras(const core::Capture& capture) {
+  std::vector<render::Camera> cameras;
+  for (const auto& camera : capture.cameras) cameras.push_back(render::from_capture_camera(camera));
+  return cameras;
+}
+
+bool has_distortion(const core::Capture& capture) {
+  for (const auto& camera : capture.cameras)
+    if (camera.distortion.cwiseAbs().maxCoeff() > 0) return true;
+  return false;
+}
+
+TemplateAppearance::TemplateAppearance(const core::Mesh& root_surface, std::vector<render::Camera> cameras,
+                                       std::vector<GreyImage> root_images, double mean_edge,
+                                       const FlowOptions& options)
+    : V_(root_surface.V),
+      F_(root_surface.F),
+      face_normals_(face_normals(root_surface.V, root_surface.F)),
+      cameras_(std::move(cameras)),
+      images_(std::move(root_images)),
+      tolerance_(options.visibility_edges * mean_edge),
+      min_facing_(options.min_facing) {
+  if (images_.size() != cameras_.size()) throw core::internal_error("TemplateAppearance: one image per camera");
+  for (const auto& camera : cameras_) depth_.push_back(visibility(V_, F_, camera).depth);
+  long seen = 0;
+  for (long f = 0; f < F_.rows(); ++f)
+    if (value(f, Eigen::Vector3d::Constant(1.0 / 3.0))) ++seen;
+  coverage_ = F_.rows() > 0 ? static_cast<double>(seen) / static_cast<double>(F_.rows()) : 0.0;
+}
+
+std::optional<double> TemplateAppearance::value(long face, const Eigen::Vector3d& b) const {
+  const Eigen::Vector3d x = b[0] * V_.row(F_(face, 0)).transpose() + b[1] * V_.row(F_(face, 1)).transpose() +
+                            b[2] * V_.row(F_(face, 2)).transpose();
+  const Eigen::Vector3d n = face_normals_.row(face).transpose();
+  double sum = 0, weights = 0;
+  for (std::size_t c = 0; c < cameras_.size(); ++c) {
+    const render::Camera& camera = cameras_[c];
+    const Eigen::Vector3d towards = camera.centre() - x;
+    const double facing = n.dot(towards) / towards.norm();
+    if (facing < min_facing_) continue;
+    const double z = camera.to_camera(x).z();
+    if (z <= 0) continue;
+    const Eigen::Vector2d u = camera.project(x);
+    const long px = std::lround(u.x()), py = std::lround(u.y());
+    if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
+    const float visible = depth_[c][static_cast<std::size_t>(py) * static_cast<std::size_t>(camera.width) + static_cast<std::size_t>(px)];
+    if (!(z <= visible + tolerance_)) continue;  // occluded (or no surface: +inf never occludes)
+    const auto grey = images_[c].sample(u.x(), u.y());
+    if (!grey) continue;
+    const double w = facing * facing;
+    sum += w * *grey;
+    weights += w;
+  }
+  if (weights <= 0) return std::nullopt;
+  return sum / weights;
+}
+
+FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
+                         const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
+                         const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options) {
+  const long n = surface.rows();
+  FlowTargets result;
+  result.targets = surface;
+  result.support = Eigen::VectorXd::Zero(n);
+  const auto& cameras = appearance.cameras();
+  if (child_images.size() != cameras.size()) return result;
+  const Eigen::MatrixXd normals = face_normals(surface, F);
+  const double max_offset = options.max_offset_edges * mean_edge;
+  std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> offsets(static_cast<std::size_t>(n));
+  const cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+  dis->setFinestScale(0);
+  for (std::size_t c = 0; c < cameras.size(); ++c) {
+    const render::Camera& camera = cameras[c];
+    const GreyImage& actual = child_images[c];
+    const render::Rendering seen = visibility(surface, F, camera);
+    const int w = camera.width, h = camera.height;
+    // The prediction: template points with their root appearance; elsewhere the child's background
+    // (median of its border pixels), and template points no root camera saw get the mean appearance.
+    std::vector<float> border;
+    for (int x = 0; x < w; ++x) border.insert(border.end(), {actual.at(x, 0), actual.at(x, h - 1)});
+    for (int y = 0; y < h; ++y) border.insert(border.end(), {actual.at(0, y), actual.at(w - 1, y)});
+    std::nth_element(border.begin(), border.begin() + static_cast<long>(border.size() / 2), border.end());
+    const float background = border[border.size() / 2];
+    GreyImage predicted{w, h, std::vector<float>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), background)};
+    std::vector<Eigen::Vector3d> barycentric(predicted.pixels.size(), Eigen::Vector3d::Constant(-1));
+    std::vector<char> valid(predicted.pixels.size(), 0);
+    double valid_sum = 0;
+    long valid_count = 0;
+    const Eigen::Vector3d centre = camera.centre();
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+        const int f = seen.face[i];
+        if (f < 0) continue;
+        const Eigen::Vector3d a = surface.row(F(f, 0)), b = surface.row(F(f, 1)), d = surface.row(F(f, 2));
+        const Eigen::Vector3d normal = normals.row(f).transpose();
+        const Eigen::Vector3d ray = pixel_ray(camera, x, y);
+        const double along = normal.dot(ray);
+        if (std::abs(along) < 1e-9) continue;
+        const Eigen::Vector3d hit = centre + ray * (normal.dot(a - centre) / along);
+        barycentric[i] = geometry::barycentric_coordinates(hit, a, b, d);
+        const auto value = appearance.value(f, barycentric[i]);
+        if (!value) continue;
+        predicted.pixels[i] = static_cast<float>(*value);
+        valid[i] = static_cast<char>(-along >= options.min_facing ? 1 : 2);  // 2: shown, but too grazing to use
+        valid_sum += *value;
+        ++valid_count;
+      }
+    if (valid_count == 0) continue;
+    const float fill = static_cast<float>(valid_sum / static_cast<double>(valid_count));
+    for (std::size_t i = 0; i < predicted.pixels.size(); ++i)
+      if (seen.face[i] >= 0 && valid[i] == 0) predicted.pixels[i] = fill;
+
+    // Flow only in the template's bounding box (plus a margin for the motion): the actor covers a
+    // small part of a studio image.
+    int x0 = w, y0 = h, x1 = -1, y1 = -1;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0) {
+          x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+    const int margin = options.margin_px;
+    x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
+    x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
+    const cv::Rect box(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+    const cv::Mat from = to_mat(predicted)(box).clone(), to = to_mat(actual)(box).clone();
+    cv::Mat forward, backward;
+    dis->calc(from, to, forward);
+    dis->calc(to, from, backward);
+    const double tolerance2 = options.consistency_px * options.consistency_px;
+    for (int y = y0; y <= y1; y += options.stride)
+      for (int x = x0; x <= x1; x += options.stride) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+        if (valid[i] != 1) continue;
+        const cv::Point2f flow = forward.at<cv::Point2f>(y - y0, x - x0);
+        const double qx = x + flow.x, qy = y + flow.y;
+        if (!(qx >= x0 && qy >= y0 && qx <= x1 && qy <= y1)) continue;
+        // Forward-backward check at the nearest pixel of the moved point.
+        const cv::Point2f back = backward.at<cv::Point2f>(static_cast<int>(std::lround(qy)) - y0,
+                                                          static_cast<int>(std::lround(qx)) - x0);
+        const double ex = flow.x + back.x, ey = flow.y + back.y;
+        if (ex * ex + ey * ey > tolerance2) continue;
+        const Eigen::Vector3d ray = pixel_ray(camera, qx, qy);
+        const auto target = child.first_hit(centre, ray);
+        if (!target) continue;
+        const Eigen::Vector3d target_normal = child.face_normal(target->face);
+        if (-target_normal.dot(ray) < options.min_facing) continue;
+        const int f = seen.face[i];
+        if (target_normal.dot(normals.row(f).transpose()) < options.normal_compatibility) continue;
+        const Eigen::Vector3d& b = barycentric[i];
+        const Eigen::Vector3d point = b[0] * surface.row(F(f, 0)).transpose() + b[1] * surface.row(F(f, 1)).transpose() +
+                                      b[2] * surface.row(F(f, 2)).transpose();
+        const Eigen::Vector3d offset = target->position - point;
+        if (offset.norm() > max_offset) continue;
+        for (int k = 0; k < 3; ++k)
+          if (b[k] > 1e-3) offsets[static_cast<std::size_t>(F(f, k))].push_back({offset, b[k]});
+        ++result.pixels;
+      }
+  }
+  for (long v = 0; v < n; ++v) {
+    auto& values = offsets[static_cast<std::size_t>(v)];
+    if (values.empty()) continue;
+    double support = 0;
+    for (const auto& value : values) support += value.second;
+    result.support(v) = support;
+    result.targets.row(v) = surface.row(v) + weighted_median(values).transpose();
+  }
+  return result;
+}
+
+}  // namespace surfcap::align
