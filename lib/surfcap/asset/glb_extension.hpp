@@ -1,21 +1,19 @@
 #pragma once
 // Internal to asset/glb_*.cpp: the SURFCAP_motion_graph extension object (docs/formats.md) —
 // spaces, transitions and part models — written into and read from a glTF model's accessors.
-#include <limits>
 #include <string>
 #include <string_view>
 
 #include "surfcap/asset/character.hpp"
 #include "surfcap/asset/glb_model.hpp"
+#include "surfcap/core/json_integer.hpp"
 
 namespace surfcap::asset::detail {
 
 inline constexpr const char* motion_graph_extension = "SURFCAP_motion_graph";
 
-/// The integer JSON number object[key] within [min, max]; bad_input naming `source` otherwise
-/// (get<int>() of a float or of a huge number would be undefined).
-long integer_field(const core::Json& object, std::string_view key, const std::filesystem::path& source,
-                   long min = std::numeric_limits<int>::min(), long max = std::numeric_limits<int>::max());
+/// The integer JSON number object[key] within [min, max]; bad_input naming the file otherwise.
+using core::integer_field;
 
 /// "spaces", "transitions" and "parts" of the extension, their arrays added to `builder`.
 /// internal_error when an array's size disagrees with the shape its metadata implies.

@@ -3,42 +3,12 @@
 #include <limits>
 
 #include "surfcap/asset/glb_extension.hpp"
+#include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/blend/stored_space.hpp"
 
 namespace surfcap::asset::detail {
 
-long integer_field(const core::Json& object, std::string_view key, const std::filesystem::path& source, long min,
-                   long max) {
-  const auto it = object.find(key);
-  if (it == object.end()) throw core::bad_input(source, "missing field \"" + std::string(key) + "\"");
-  bool in_range = false;
-  if (it->is_number_unsigned()) {
-    const std::uint64_t value = it->get<std::uint64_t>();
-    in_range = value <= static_cast<std::uint64_t>(max) && (min <= 0 || value >= static_cast<std::uint64_t>(min));
-  } else if (it->is_number_integer()) {
-    const std::int64_t value = it->get<std::int64_t>();
-    in_range = value >= min && value <= max;
-  }
-  if (!in_range)
-    throw core::bad_input(source, "field \"" + std::string(key) + "\" must be an integer in [" + std::to_string(min) +
-                                      ", " + std::to_string(max) + "]");
-  return static_cast<long>(it->get<std::int64_t>());
-}
-
 namespace {
-
-std::vector<std::vector<int>> monomials_of(const core::Json& json, const std::filesystem::path& source) {
-  std::vector<std::vector<int>> monomials;
-  for (const core::Json& term : core::get_field<core::Json>(json, "monomials", source)) {
-    monomials.emplace_back();
-    for (const core::Json& exponent : term) {
-      if (!exponent.is_number_integer() || exponent.get<std::int64_t>() < 0 || exponent.get<std::int64_t>() > 64)
-        throw core::bad_input(source, "parameter map: exponents must be integers in [0, 64]");
-      monomials.back().push_back(exponent.get<int>());
-    }
-  }
-  return monomials;
-}
 
 /// Accessor index under `key`, -1 when absent (an empty array).
 int optional_accessor(const core::Json& object, const std::string& key, const std::filesystem::path& source) {
@@ -71,32 +41,6 @@ std::vector<int> checked_indices(const std::vector<std::uint32_t>& values, long 
     out[i] = static_cast<int>(values[i]);
   }
   return out;
-}
-
-blend::ParameterMap parameter_map_from(const core::Json& json, int dimensions, const std::filesystem::path& source) {
-  blend::ParameterMap map;
-  map.degree = integer_field(json, "degree", source);
-  map.parameters = core::get_field<std::vector<std::string>>(json, "parameters", source);
-  map.monomials = monomials_of(json, source);
-  const auto coefficients = core::get_field<std::vector<std::vector<double>>>(json, "coefficients", source);
-  const auto range = core::get_field<std::vector<std::vector<double>>>(json, "parameterRange", source);
-  map.residual_rms = core::get_field<double>(json, "residualRms", source);
-  map.residual_max = core::get_field<double>(json, "residualMax", source);
-  const long terms = static_cast<long>(map.monomials.size());
-  if (static_cast<int>(coefficients.size()) != dimensions || static_cast<int>(range.size()) != dimensions ||
-      static_cast<int>(map.parameters.size()) != dimensions)
-    throw core::bad_input(source, "parameter map: one row per weight-space axis expected");
-  map.coefficients.resize(dimensions, terms);
-  map.parameter_range.resize(dimensions, 2);
-  for (int a = 0; a < dimensions; ++a) {
-    if (static_cast<long>(coefficients[a].size()) != terms || range[a].size() != 2)
-      throw core::bad_input(source, "parameter map: coefficients/ranges of the wrong size");
-    for (long k = 0; k < terms; ++k) map.coefficients(a, k) = coefficients[a][k];
-    map.parameter_range.row(a) << range[a][0], range[a][1];
-  }
-  for (const auto& m : map.monomials)
-    if (static_cast<int>(m.size()) != dimensions) throw core::bad_input(source, "parameter map: monomial of the wrong size");
-  return map;
 }
 
 void read_displacements(const core::Json& json, const GlbAccessors& accessors, long vertices, CharacterSpace& space) {
@@ -153,7 +97,8 @@ CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors,
   space.time_warp = accessors.read<float>(integer_field(json, "timeWarp", source), f32, TINYGLTF_TYPE_SCALAR, nt,
                                           what + " timeWarp");
   read_displacements(core::get_field<core::Json>(json, "displacements", source), accessors, character.vertex_count(), space);
-  if (json.contains("parameterMap")) space.parameter_map = parameter_map_from(json["parameterMap"], space.dimensions, source);
+  if (json.contains("parameterMap")) space.parameter_map =
+        blend::read_parameter_map(json["parameterMap"], source, blend::ParameterMapKeys::gltf, space.dimensions);
   space.tolerance_mm = core::get_field<double>(json, "toleranceMm", source);
   space.max_error_mm = core::get_field<double>(json, "maxErrorMm", source);
   blend::check_stored_space(space, source);  // the invariants space.json readers check too

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/npy.hpp"
 
@@ -28,28 +29,7 @@ long StoredSpace::vertex_count() const {
 }
 
 ParameterMap parameter_map_from_json(const core::Json& json, const std::filesystem::path& file) {
-  ParameterMap map;
-  map.degree = core::get_field<int>(json, "degree", file);
-  map.parameters = core::get_field<std::vector<std::string>>(json, "parameters", file);
-  map.monomials = core::get_field<std::vector<std::vector<int>>>(json, "monomials", file);
-  const auto coefficients = matrix_field(json, "coefficients", file);
-  const auto ranges = matrix_field(json, "parameter_range", file);
-  const auto d = static_cast<long>(map.parameters.size());
-  if (static_cast<long>(coefficients.size()) != d || static_cast<long>(ranges.size()) != d)
-    throw core::bad_input(file, "parameter_map: coefficients and parameter_range need one row per parameter");
-  map.coefficients.resize(d, static_cast<long>(map.monomials.size()));
-  map.parameter_range.resize(d, 2);
-  for (long a = 0; a < d; ++a) {
-    if (coefficients[a].size() != map.monomials.size() || ranges[a].size() != 2)
-      throw core::bad_input(file, "parameter_map: row " + std::to_string(a) + " has the wrong length");
-    for (std::size_t k = 0; k < map.monomials.size(); ++k) map.coefficients(a, static_cast<long>(k)) = coefficients[a][k];
-    map.parameter_range.row(a) << ranges[a][0], ranges[a][1];
-  }
-  for (const auto& exponents : map.monomials)
-    if (static_cast<long>(exponents.size()) != d) throw core::bad_input(file, "parameter_map: a monomial has the wrong arity");
-  map.residual_rms = json.value("residual_rms", 0.0);
-  map.residual_max = json.value("residual_max", 0.0);
-  return map;
+  return read_parameter_map(json, file, ParameterMapKeys::space_json);
 }
 
 StoredSpace stored_space_from_entry(const core::Json& entry, const std::filesystem::path& output,

@@ -1,6 +1,7 @@
 #pragma once
 // Outputs are written to a hidden temporary name beside the target and renamed when complete,
-// so a killed or failed job never leaves a file that looks finished.
+// so a killed or failed job never leaves a file that looks finished. What a killed job left is
+// removed by the next process writing into that directory (docs/reliability.md).
 
 #include <cstddef>
 #include <cstdio>
@@ -13,7 +14,9 @@ namespace surfcap::core {
 
 class AtomicFile {
  public:
-  /// Opens "<dir>/.<name>.tmp-<pid>-<n>"; creates the parent directories. Throws io_error (exit 4).
+  /// Opens "<dir>/.<name>.tmp-<host>-<pid>-<n>"; creates the parent directories. The first time
+  /// this process writes into <dir>, it removes the temporaries there of dead processes of this
+  /// host last written before it started (killed runs). Throws io_error (exit 4).
   explicit AtomicFile(std::filesystem::path target);
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;

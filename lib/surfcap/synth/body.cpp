@@ -1,14 +1,20 @@
 #include "surfcap/synth/body.hpp"
 
 #include <CGAL/Complex_2_in_triangulation_3.h>
-#include <CGAL/IO/facets_in_complex_2_to_triangle_mesh.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Delaunay_triangulation_cell_base_with_circumcenter_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Implicit_surface_3.h>
+#include <CGAL/IO/facets_in_complex_2_to_triangle_mesh.h>
+#include <CGAL/make_surface_mesh.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Random.h>
+#include <CGAL/Robust_circumcenter_traits_3.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_default_triangulation_3.h>
-#include <CGAL/make_surface_mesh.h>
+#include <CGAL/Surface_mesh_cell_base_3.h>
+#include <CGAL/Surface_mesh_default_criteria_3.h>
+#include <CGAL/Surface_mesh_vertex_base_3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,9 +27,34 @@
 namespace surfcap::synth {
 namespace {
 
-using Triangulation = CGAL::Surface_mesh_default_triangulation_3;
+/// A triangulation element base with a CGAL time stamp. CGAL compares handles of time-stamped
+/// elements by creation order, otherwise by address: the surface mesher keeps its refinement
+/// queues and vertex sets ordered by handle, so without stamps its mesh depends on where the
+/// allocator puts the triangulation's blocks (it differed between runs under ASan, and between two
+/// meshings in one process). Mesh_3's own bases carry stamps for the same reason.
+template <class Base>
+class TimeStamped : public Base {
+ public:
+  using Has_timestamp = CGAL::Tag_true;
+  using Base::Base;
+  template <class Tds>
+  struct Rebind_TDS {
+    using Other = TimeStamped<typename Base::template Rebind_TDS<Tds>::Other>;
+  };
+  std::size_t time_stamp() const { return time_stamp_; }
+  void set_time_stamp(const std::size_t& stamp) { time_stamp_ = stamp; }
+
+ private:
+  std::size_t time_stamp_ = std::size_t(-1);
+};
+
+// CGAL::Surface_mesh_default_triangulation_3 with time-stamped vertices and cells.
+using Traits = CGAL::Robust_circumcenter_traits_3<CGAL::Exact_predicates_inexact_constructions_kernel>;
+using VertexBase = TimeStamped<CGAL::Surface_mesh_vertex_base_3<Traits>>;
+using CellBase = TimeStamped<
+    CGAL::Delaunay_triangulation_cell_base_with_circumcenter_3<Traits, CGAL::Surface_mesh_cell_base_3<Traits>>>;
+using Triangulation = CGAL::Delaunay_triangulation_3<Traits, CGAL::Triangulation_data_structure_3<VertexBase, CellBase>>;
 using Complex = CGAL::Complex_2_in_triangulation_3<Triangulation>;
-using Traits = Triangulation::Geom_traits;
 using Point = Traits::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 
@@ -103,8 +134,7 @@ Region region_of(const Skeleton& sk, int bone, const Eigen::Vector3d& p, double 
   }
 }
 
-/// CGAL's surface mesher breaks ties by memory address, so a second meshing in the same process
-/// (another heap state) may differ; one mesh per options per process keeps every Actor identical.
+/// Meshing costs seconds; an Actor is built more than once per process (tests, presets).
 core::Mesh cached_template(const Skeleton& skeleton, const BodyOptions& options) {
   static std::mutex mutex;
   static std::map<std::tuple<double, int, int, double, double, double, double, double>, core::Mesh> cache;

@@ -1,8 +1,5 @@
 #include "surfcap/synth/reconstruction.hpp"
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/random_perturbation.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
@@ -12,6 +9,7 @@
 #include <random>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/geometry/surface_query.hpp"
 
 namespace surfcap::synth {
 namespace {
@@ -19,8 +17,6 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
-using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
 SurfaceMesh to_surface_mesh(const core::Mesh& mesh) {
@@ -52,16 +48,11 @@ core::Mesh to_mesh(SurfaceMesh& mesh) {
   return result;
 }
 
-Eigen::Vector3d barycentric_of(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                               const Eigen::Vector3d& c) {
-  const Eigen::Vector3d v0 = b - a, v1 = c - a, v2 = p - a;
-  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1), d20 = v2.dot(v0), d21 = v2.dot(v1);
-  const double denominator = d00 * d11 - d01 * d01;
-  if (std::abs(denominator) < 1e-30) return Eigen::Vector3d(1, 0, 0);
-  const double v = (d11 * d20 - d01 * d21) / denominator, w = (d00 * d21 - d01 * d20) / denominator;
-  Eigen::Vector3d result(1 - v - w, v, w);
-  result = result.cwiseMax(0.0);
-  return result / result.sum();
+/// Barycentric coordinates of a point on the triangle, inside it despite rounding: ≥ 0, sum 1.
+Eigen::Vector3d clamped(Eigen::Vector3d barycentric) {
+  barycentric = barycentric.cwiseMax(0.0);
+  const double sum = barycentric.sum();
+  return sum > 0 ? Eigen::Vector3d(barycentric / sum) : Eigen::Vector3d(1, 0, 0);
 }
 
 /// Standard normal numbers from a 64-bit Mersenne Twister by Box–Muller: the same on every platform.
@@ -100,28 +91,21 @@ Reconstruction reconstruct(const core::Mesh& truth, double edge, std::uint64_t s
   const double u = static_cast<double>(engine() >> 11) * (1.0 / 9007199254740992.0);
   result.target_edge = edge * (1.0 + options.edge_jitter * (2 * u - 1));
 
-  const SurfaceMesh reference = to_surface_mesh(truth);
-  SurfaceMesh mesh = reference;
+  SurfaceMesh mesh = to_surface_mesh(truth);
   PMP::random_perturbation(mesh, 0.3 * edge,
                            PMP::parameters::random_seed(static_cast<unsigned>(engine() & 0x7fffffff)).do_project(true));
   PMP::isotropic_remeshing(faces(mesh), result.target_edge, mesh,
                            PMP::parameters::number_of_iterations(options.iterations));
   result.mesh = to_mesh(mesh);
 
-  Tree tree(faces(reference).first, faces(reference).second, reference);
-  tree.accelerate_distance_queries();
+  const geometry::SurfaceQuery query(truth.V, truth.F);
   const long n = result.mesh.vertex_count();
   result.face.resize(static_cast<std::size_t>(n));
   result.barycentric.resize(n, 3);
   for (long v = 0; v < n; ++v) {
-    const Point p(result.mesh.V(v, 0), result.mesh.V(v, 1), result.mesh.V(v, 2));
-    const auto [closest, primitive] = tree.closest_point_and_primitive(p);
-    const int f = static_cast<int>(primitive.idx());
-    result.face[static_cast<std::size_t>(v)] = f;
-    const Eigen::Vector3d q(closest.x(), closest.y(), closest.z());
-    result.barycentric.row(v) = barycentric_of(q, truth.V.row(truth.F(f, 0)).transpose(),
-                                               truth.V.row(truth.F(f, 1)).transpose(),
-                                               truth.V.row(truth.F(f, 2)).transpose()).transpose();
+    const geometry::SurfacePoint closest = query.closest_point(result.mesh.V.row(v).transpose());
+    result.face[static_cast<std::size_t>(v)] = static_cast<int>(closest.face);
+    result.barycentric.row(v) = clamped(closest.barycentric).transpose();
   }
   // The reconstruction's noise-free vertices are exactly its true surface points.
   result.mesh.V = surface_points(truth.V, truth.F, result.face, result.barycentric);

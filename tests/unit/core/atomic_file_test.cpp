@@ -3,7 +3,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
+#include <vector>
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
@@ -88,6 +90,76 @@ TEST(AtomicFile, FileSizeLimitGivesIoErrorAndNoFile) {
   EXPECT_EQ(WEXITSTATUS(status), static_cast<int>(core::ExitCode::io));
   EXPECT_FALSE(std::filesystem::exists(dir / "big.bin"));
   EXPECT_EQ(testing::count_hidden_files(dir.path()), 0);
+}
+
+/// Forks a child that opens an AtomicFile on `target`, writes, and then (ready written to `ready`)
+/// waits for a byte on `go` before committing — or, with go < 0, kills itself (a SIGKILLed run).
+pid_t child_writing(const std::filesystem::path& target, int ready, int go) {
+  const pid_t child = ::fork();
+  if (child != 0) return child;
+  core::AtomicFile file(target);
+  file.write("complete");
+  char byte = 1;
+  if (::write(ready, &byte, 1) != 1) ::_exit(20);
+  if (go < 0) ::raise(SIGKILL);
+  if (::read(go, &byte, 1) != 1) ::_exit(21);
+  file.commit();
+  ::_exit(0);
+}
+
+std::vector<std::filesystem::path> hidden_files(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string()[0] == '.') files.push_back(entry.path());
+  return files;
+}
+
+TEST(AtomicFile, NextWriterRemovesWhatKilledRunsLeftButNotLiveWriters) {
+  TemporaryDirectory dir("atomic_stale");
+  int ready[2], go[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(go), 0);
+  char byte = 1;
+  // A live writer of live.bin (started first: its own clean-up sees an empty directory) ...
+  const pid_t live = child_writing(dir / "live.bin", ready[1], go[0]);
+  struct Reaper {  // never leave the live child blocked, whatever fails below
+    pid_t pid;
+    ~Reaper() {
+      if (pid > 0 && ::kill(pid, SIGKILL) == 0) ::waitpid(pid, nullptr, 0);
+    }
+  } reaper{live};
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  // ... a run killed in the middle of writing killed.bin ...
+  const pid_t killed = child_writing(dir / "killed.bin", ready[1], -1);
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  int status = 0;
+  ::waitpid(killed, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  std::vector<std::filesystem::path> stale;
+  for (const auto& file : hidden_files(dir.path()))
+    if (file.filename().string().starts_with(".killed.bin.tmp-")) stale.push_back(file);
+  ASSERT_EQ(stale.size(), 1u);
+  // ... and a dead process's temporary written from another host (a shared disk).
+  const auto other_host = dir / (".x.bin.tmp-another-host-" + std::to_string(killed) + "-0");
+  std::filesystem::copy_file(stale[0], other_host);
+  // All of them last written before this process started (a previous run).
+  const auto before = std::filesystem::file_time_type::clock::now() - std::chrono::hours(1);
+  for (const auto& file : hidden_files(dir.path())) std::filesystem::last_write_time(file, before);
+  EXPECT_EQ(hidden_files(dir.path()).size(), 3u);
+
+  core::write_file_atomically(dir / "next.bin", std::string_view("next"));
+  EXPECT_FALSE(std::filesystem::exists(stale[0])) << "the killed run's temporary was kept";
+  EXPECT_TRUE(std::filesystem::exists(other_host)) << "another host's temporary was removed";
+  EXPECT_EQ(hidden_files(dir.path()).size(), 2u);
+  // The live writer still completes.
+  ASSERT_EQ(::write(go[1], &byte, 1), 1);
+  ::waitpid(live, &status, 0);
+  reaper.pid = -1;
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(core::read_file(dir / "live.bin"), "complete");
+  EXPECT_FALSE(std::filesystem::exists(dir / "killed.bin"));
+  for (const int fd : {ready[0], ready[1], go[0], go[1]}) ::close(fd);
 }
 
 }  // namespace
