@@ -2,8 +2,6 @@
 // similarity (optionally one row block), merge, tree.
 #include <spdlog/spdlog.h>
 
-#include "surfcap/align/root_choice.hpp"
-#include "surfcap/core/capture.hpp"
 #include "surfcap/core/cli.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
@@ -27,7 +25,6 @@ struct Arguments {
   std::string rows;
   std::string search = "fft";
   std::string root;
-  double root_separation = 0.1;
   std::string ground_truth;
 };
 
@@ -104,20 +101,11 @@ void run_tree(const Arguments& args, const core::ToolApp& app) {
   const long n = set.histograms.rows();
   const similarity::FloatRows matrix = similarity::read_matrix(args.out, n);
   std::optional<int> root;
-  std::vector<char> candidates;
-  if (!args.root.empty()) {
-    root = static_cast<int>(set.frames.node(args.root));
-  } else if (args.root_separation >= 0) {
-    auto timer = report.time("root_choice");
-    const core::Capture capture = core::read_capture(set.capture);
-    const align::RootCandidates choice = align::root_candidates(capture, set.frames, args.root_separation, app.common().threads);
-    candidates = choice.candidates;
-    report.figures()["root_choice"] = align::root_choice_json(choice);
-  }
+  if (!args.root.empty()) root = static_cast<int>(set.frames.node(args.root));
   similarity::SimilarityTree tree;
   {
     auto timer = report.time("spanning_tree");
-    tree = similarity::similarity_tree(matrix.cast<double>(), root, std::nullopt, candidates.empty() ? nullptr : &candidates);
+    tree = similarity::similarity_tree(matrix.cast<double>(), root);
   }
   similarity::write_tree(args.out, tree, set.frames);
   similarity::write_similarity_png(std::filesystem::path(args.out) / "similarity" / "tree.png", matrix,
@@ -182,12 +170,7 @@ int main(int argc, char** argv) {
 
   auto* tree = cli.add_subcommand("tree", "Shape similarity tree (pruned minimum spanning tree)");
   tree->add_option("--out", args.out, "Database folder holding similarity/matrix.npy")->required();
-  tree->add_option("--root", args.root,
-                   "Root frame as <sequence>:<frame> (default: minimal weighted depth among the frames whose parts are "
-                   "most separated)");
-  tree->add_option("--root-separation", args.root_separation,
-                   "Automatic root: candidates within this many cross-section components of the most separated frame "
-                   "(< 0: any frame; reads the capture's reconstructions)");
+  tree->add_option("--root", args.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth)");
   tree->add_option("--ground-truth", args.ground_truth,
                    "Ground-truth aligned database.json: report the tree's quality ratio");
 

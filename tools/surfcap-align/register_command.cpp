@@ -6,7 +6,6 @@
 #include <memory>
 #include <numeric>
 
-#include "surfcap/align/root_choice.hpp"
 #include "surfcap/align/alignment_report.hpp"
 #include "surfcap/align/ground_truth_error.hpp"
 #include "surfcap/align/tree_alignment.hpp"
@@ -27,7 +26,6 @@ struct RegisterCommands::State {
   std::string capture;
   std::string out;
   std::string root;
-  double root_separation = 0.1;
   align::RegisterOptions options;
   bool surface_model = false;
   bool no_evaluation = false;
@@ -244,16 +242,8 @@ void run_similarity_chain(const RegisterCommands::State& state, const core::Tool
   {
     auto timer = report.time("tree");
     std::optional<int> root;
-    std::vector<char> candidates;
-    if (!state.root.empty()) {
-      root = static_cast<int>(set.frames.node(state.root));
-    } else if (state.root_separation >= 0) {
-      const align::RootCandidates choice =
-          align::root_candidates(capture, set.frames, state.root_separation, app.common().threads);
-      candidates = choice.candidates;
-      report.figures()["root_choice"] = align::root_choice_json(choice);
-    }
-    tree = similarity::similarity_tree(matrix.cast<double>(), root, std::nullopt, candidates.empty() ? nullptr : &candidates);
+    if (!state.root.empty()) root = static_cast<int>(set.frames.node(state.root));
+    tree = similarity::similarity_tree(matrix.cast<double>(), root);
   }
   similarity::write_tree(out, tree, set.frames);
   similarity::write_similarity_png(out / "similarity" / "tree.png", matrix, index, &tree);
@@ -275,12 +265,7 @@ RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::
   s.run_cmd = cli.add_subcommand("run", "histograms → similarity → tree → register in one go");
   s.run_cmd->add_option("--capture", s.capture, "Capture folder (or its capture.json)")->required();
   s.run_cmd->add_option("--out", s.out, "Database folder to write")->required();
-  s.run_cmd->add_option("--root", s.root,
-                        "Root frame as <sequence>:<frame> (default: minimal weighted depth among the frames whose "
-                        "parts are most separated)");
-  s.run_cmd->add_option("--root-separation", s.root_separation,
-                        "Automatic root: candidates within this many cross-section components of the most separated "
-                        "frame (< 0: any frame)");
+  s.run_cmd->add_option("--root", s.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth)");
   s.run_cmd->add_option("--voxel-size", s.histogram.voxel_size, "Volume sampling grid spacing (m)");
   s.run_cmd->add_option("--window", s.similarity.temporal_window, "Temporal filter half-width k (frames)")
       ->check(CLI::Range(0, 50));

@@ -98,8 +98,7 @@ double automatic_threshold(const Eigen::MatrixXd& costs) {
   return threshold;
 }
 
-SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root, std::optional<double> threshold,
-                               const std::vector<char>* root_candidates) {
+SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root, std::optional<double> threshold) {
   const int n = static_cast<int>(costs.rows());
   if (n == 0 || costs.cols() != n) throw core::internal_error("similarity_tree: the cost matrix must be square and non-empty");
   if (root && (*root < 0 || *root >= n)) throw core::bad_arguments("root node " + std::to_string(*root) + " is out of range");
@@ -129,16 +128,7 @@ SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> 
   for (auto& neighbours : adjacency)
     std::sort(neighbours.begin(), neighbours.end(), [](const Adjacent& x, const Adjacent& y) { return x.node < y.node; });
   const std::vector<double> depths = weighted_depths(adjacency);
-  if (root_candidates != nullptr && static_cast<int>(root_candidates->size()) != n)
-    throw core::internal_error("similarity_tree: one root candidate flag per node");
-  const bool restricted =
-      root_candidates != nullptr && std::any_of(root_candidates->begin(), root_candidates->end(), [](char c) { return c != 0; });
-  int best = -1;
-  for (int i = 0; i < n; ++i)
-    if ((!restricted || (*root_candidates)[static_cast<std::size_t>(i)] != 0) &&
-        (best < 0 || depths[static_cast<std::size_t>(i)] < depths[static_cast<std::size_t>(best)]))
-      best = i;
-  tree.root = root.value_or(best);
+  tree.root = root.value_or(static_cast<int>(std::min_element(depths.begin(), depths.end()) - depths.begin()));
   tree.weighted_depth = depths[static_cast<std::size_t>(tree.root)];
   // Breadth-first from the root: the order in which frames can be aligned.
   tree.depth.assign(static_cast<std::size_t>(n), -1);

@@ -30,12 +30,10 @@ struct SimilarityTree {
 double automatic_threshold(const Eigen::MatrixXd& costs);
 
 /// Builds the tree from a symmetric N×N cost matrix (the filtered dissimilarity; only the upper
-/// triangle is read after symmetrising). `root`: a given root node, else the optimal one — among
-/// `root_candidates` (per node, non-zero = allowed) when given and not all zero.
+/// triangle is read after symmetrising). `root`: a given root node, else the optimal one.
 /// Ties are broken by node order, so the result is deterministic.
 SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root = std::nullopt,
-                               std::optional<double> threshold = std::nullopt,
-                               const std::vector<char>* root_candidates = nullptr);
+                               std::optional<double> threshold = std::nullopt);
 
 /// Minimum spanning tree total cost of a complete graph (no pruning), for evaluation.
 double minimum_spanning_tree_cost(const Eigen::MatrixXd& costs);
