@@ -2,9 +2,10 @@
 # surfcap-align run end to end on the synth `tiny` capture: histograms → similarity → tree →
 # register, with the camera images (SIFT features, appearance flow); checks the aligned database
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
-# and exit codes. The error bounds guard the level reached today (measured RMS 2.66% of the
-# height, worst frame 4.20%; bounds 3.0% / 5.0%); the issue's target (0.5% / 2%) is NOT met — see
-# docs/align.md "Status".
+# and exit codes. The template is a stride of the walk (--root walk:0, as scripts/demo.sh does;
+# the automatic root, a landing crouch, aligns worse: 3.79% / 5.94%). The error bounds guard the
+# level reached today (measured RMS 2.54% of the height, worst frame 4.04%; bounds 2.9% / 4.6%);
+# the issue's target (0.5% / 2%) is NOT met — see docs/align.md "Status".
 set -euo pipefail
 build=$1
 synth=$build/tools/surfcap-synth
@@ -13,7 +14,7 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/align_e2e.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
 "$synth" --preset tiny --out "$work/capture" --log-level warn
-"$align" run --capture "$work/capture" --out "$work/db" --threads 2 --log-level warn
+"$align" run --capture "$work/capture" --out "$work/db" --root walk:0 --threads 2 --log-level warn
 
 for f in database.json template.ply sequences/walk.npy sequences/walk.root.npy sequences/run.npy \
          similarity/tree.json report/alignment.json report/alignment.png report/truth_error.png; do
@@ -27,8 +28,8 @@ perl -MJSON::PP -e '
   printf "RMS %.3f%% of height, worst frame %s %.3f%%\n", $g->{rms_percent_height}, $g->{worst_frame},
          $g->{worst_frame_rms_percent_height};
   printf "  depth %d: %.3f%%\n", $_->{depth}, $_->{rms_percent_height} for @{$g->{by_depth}};
-  die "RMS error above 3.0% of the height\n" if $g->{rms_percent_height} > 3.0;
-  die "worst frame above 5.0% of the height\n" if $g->{worst_frame_rms_percent_height} > 5.0;
+  die "RMS error above 2.9% of the height\n" if $g->{rms_percent_height} > 2.9;
+  die "worst frame above 4.6% of the height\n" if $g->{worst_frame_rms_percent_height} > 4.6;
   die "root appearance covers too little\n" unless $r->{summary}{appearance_coverage} > 0.5;
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};
   die "root frame error above 0.2% (it is the template itself)\n" if $root->{rms_percent_height} > 0.2;
