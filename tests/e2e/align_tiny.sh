@@ -3,9 +3,10 @@
 # register, with the camera images (SIFT features, appearance flow); checks the aligned database
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # and exit codes. The template is a stride of the walk (--root walk:0, as scripts/demo.sh does;
-# the automatic root, a landing crouch, aligns worse: 3.79% / 5.94%). The error bounds guard the
-# level reached today (measured RMS 2.54% of the height, worst frame 4.04%; bounds 2.9% / 4.6%);
-# the issue's target (0.5% / 2%) is NOT met — see docs/align.md "Status".
+# the automatic root, a landing crouch, aligns worse). The error bounds guard the level reached
+# today (measured RMS 1.58% of the height, worst frame 2.38%, with the colour-aware patches of
+# session 4; 2.54% / 4.04% before; bounds 2.0% / 3.0%); the issue's target (0.5% / 2%) is NOT met
+# on tiny — see docs/align.md "Status".
 set -euo pipefail
 build=$1
 synth=$build/tools/surfcap-synth
@@ -28,27 +29,29 @@ perl -MJSON::PP -e '
   printf "RMS %.3f%% of height, worst frame %s %.3f%%\n", $g->{rms_percent_height}, $g->{worst_frame},
          $g->{worst_frame_rms_percent_height};
   printf "  depth %d: %.3f%%\n", $_->{depth}, $_->{rms_percent_height} for @{$g->{by_depth}};
-  die "RMS error above 2.9% of the height\n" if $g->{rms_percent_height} > 2.9;
-  die "worst frame above 4.6% of the height\n" if $g->{worst_frame_rms_percent_height} > 4.6;
+  die "RMS error above 2.0% of the height\n" if $g->{rms_percent_height} > 2.0;
+  die "worst frame above 3.0% of the height\n" if $g->{worst_frame_rms_percent_height} > 3.0;
   die "root appearance covers too little\n" unless $r->{summary}{appearance_coverage} > 0.5;
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};
   die "root frame error above 0.2% (it is the template itself)\n" if $root->{rms_percent_height} > 0.2;
   die "no error decomposition\n" unless defined $g->{tangential_rms_m} && defined $g->{by_region_rms_m}{"shirt.+x"};
   my $frames = $r->{frames};
   die "frame count\n" unless @$frames == 92;
-  my ($with_features, $with_flow, $slow) = (0, 0, 0);
+  my ($with_features, $with_flow, $with_colour, $slow) = (0, 0, 0, 0);
   for my $fr (@$frames) {
     die "frame $fr->{sequence}:$fr->{frame} has no image features\n" unless $fr->{image_features} > 0;
     next if $fr->{parent} < 0;
     die "frame $fr->{sequence}:$fr->{frame} has no dense correspondences\n" unless $fr->{correspondences}{dense} > 0;
     $with_features++ if $fr->{correspondences}{feature} >= 10;
     $with_flow++ if $fr->{correspondences}{flow} >= 250;  # template vertices with a flow target (of ≈ 1,000)
+    $with_colour++ if $fr->{color_patches} > 0;  # patches that took their colour-aware fit (measured 4–22 of 450)
     die "frame $fr->{sequence}:$fr->{frame} residual too large\n" if $fr->{mean_residual_m} > 0.008;
     die "failed attempts not listed\n" unless ref $fr->{failed_attempts} eq "ARRAY";
     die "no coverage figure\n" unless defined $fr->{uncovered_fraction};
   }
   die "SIFT matches on only $with_features frames\n" if $with_features < 0.9 * (@$frames - 1);
   die "appearance flow on only $with_flow frames\n" if $with_flow < 0.9 * (@$frames - 1);
+  die "colour-aware patch fits on only $with_colour frames\n" if $with_colour < 0.9 * (@$frames - 1);
   die "no failure summary\n" unless defined $r->{summary}{frames_with_failed_attempts};
 ' "$work/db/report/alignment.json"
 

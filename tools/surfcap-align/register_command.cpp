@@ -58,12 +58,20 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
                   "Correspondence gate at the coarsest level, fraction of the template height");
   cmd->add_option("--dense-distance", p.dense_distance_edges, "Dense-fit gate in template mean edge lengths");
   cmd->add_option("--color-sigma", p.color_sigma, "Photometric dense fit: colour σ (RGB 0..1; 0: geometry only)");
+  cmd->add_option("--patch-color-scale", p.patch_color_scale,
+                  "Colour-aware patch matching: metres per unit of RGB in the joint space (0: closest points)");
+  cmd->add_option("--patch-color-levels", p.patch_color_levels, "Colour-aware matching at the coarsest N patch levels");
+  cmd->add_option("--patch-color-gain", p.patch_color_gain,
+                  "Colour-aware patch fit used when its colour disagreement is below this fraction of the closest-point fit's");
+  cmd->add_option("--color-smoothing", p.color_smoothing, "Rings of vertex-colour smoothing for patch matching");
   cmd->add_option("--feature-weight", p.feature_weight, "Weight of image feature matches (0: geometry only)");
   cmd->add_option("--coverage-weight", p.coverage_weight, "Weight of the coverage (reconstruction → template) pulls (0: off)");
   cmd->add_option("--flow-weight", p.flow.weight, "Weight of the appearance-flow targets (0: off)");
   cmd->add_option("--flow-iterations", p.flow.iterations, "Appearance-flow iterations after the dense fit");
   cmd->add_option("--flow-patch-levels", p.flow.patch_levels, "Appearance flow also at the last N patch levels");
   cmd->add_option("--flow-stride", p.flow.stride, "Pixel step of the appearance-flow constraints");
+  cmd->add_option("--flow-max-offset", p.flow.max_offset_edges,
+                  "Appearance-flow targets farther than this from their template point are dropped (mean edges)");
   cmd->add_option("--features-per-image", p.features.max_per_image, "Strongest SIFT keypoints kept per image");
   cmd->add_option("--feature-ratio", p.features.ratio, "Ratio test of the feature matching");
   cmd->add_flag("!--no-images", options.images, "Geometry only: ignore the capture's camera images");

@@ -90,6 +90,7 @@ core::Json alignment_figures(const Registration& registration) {
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints},
                                            {"coverage", a.coverage_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
                       {"accepted_patches", a.accepted_patches},
+                      {"color_patches", a.color_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
                       {"image_features", record.features},

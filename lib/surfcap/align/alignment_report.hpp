@@ -11,7 +11,7 @@
 namespace surfcap::align {
 
 /// {"frames":[{"sequence","frame","node","parent","depth","mean_residual_m","max_residual_m",
-/// "correspondences":{"patch","dense","feature"},"accepted_patches","total_patches",
+/// "correspondences":{"patch","dense","feature",...},"accepted_patches","color_patches","total_patches",
 /// "heading_change_rad","seconds","timings_s":{matching,factorisation,solves}}], "summary":{...}}
 core::Json alignment_figures(const Registration& registration);
 

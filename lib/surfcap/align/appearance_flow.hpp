@@ -26,7 +26,7 @@ struct FlowOptions {
   int stride = 1;                  ///< pixel step of the constraint grid
   int margin_px = 24;              ///< flow is computed in the template's image bounding box plus this margin
   double consistency_px = 0.5;     ///< max disagreement of the forward and backward flow, pixels
-  double max_offset_edges = 2.0;   ///< a target farther than this from its template point is dropped (mean edges)
+  double max_offset_edges = 8.0;   ///< a target farther than this from its template point is dropped (mean edges)
   double min_facing = 0.3;         ///< cosine between surface normal and view ray (root, template and child)
   double visibility_edges = 0.3;   ///< depth tolerance of the root cameras' visibility test (mean edges)
   double normal_compatibility = 0.5;  ///< cosine between the template's and the reconstruction's normals

@@ -76,6 +76,25 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   return best;
 }
 
+/// Mean squared colour difference between `points` (with `colors`) and the reconstruction's
+/// (smoothed, interpolated) colour at their closest points; points farther than `gate` count as a
+/// full disagreement (1).
+double colour_disagreement(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors,
+                           const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors, double gate) {
+  double sum = 0;
+  for (long i = 0; i < points.rows(); ++i) {
+    const geometry::SurfacePoint closest = target.closest_point(points.row(i).transpose());
+    if (closest.face < 0 || closest.distance > gate) {
+      sum += 1;
+      continue;
+    }
+    Eigen::RowVector3d colour = Eigen::RowVector3d::Zero();
+    for (int k = 0; k < 3; ++k) colour += closest.barycentric[k] * target_colors.row(target.faces()(closest.face, k));
+    sum += std::min(1.0, (colour - colors.row(i)).squaredNorm());
+  }
+  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
+}
+
 /// Target vertices binned on a uniform grid, for radius searches.
 class VertexGrid {
  public:
@@ -121,6 +140,10 @@ void PairwiseOptions::validate() const {
   require(normal_compatibility >= -1 && normal_compatibility <= 1, "normal compatibility must be in [-1, 1]");
   require(coarse_distance > 0 && dense_distance_edges > 0, "distance gates must be > 0");
   require(heading_samples >= 1, "heading samples must be ≥ 1");
+  require(patch_color_levels >= 0, "patch colour levels must be ≥ 0");
+  require(patch_color_gain > 0 && patch_color_gain <= 1, "patch colour gain must be in (0, 1]");
+  require(color_smoothing >= 0 && color_smoothing <= 20, "colour smoothing must be in 0..20 rings");
+  require(std::isfinite(patch_color_scale), "patch colour scale must be finite");
   require(features.ratio > 0 && features.ratio <= 1, "feature ratio must be in (0, 1]");
   require(features.max_per_image >= 1, "features per image must be ≥ 1");
   flow.validate();
@@ -134,6 +157,9 @@ core::Json PairwiseOptions::to_json() const {
           {"normal_compatibility", normal_compatibility}, {"coarse_distance", coarse_distance},
           {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples},
           {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges},
+          {"patch_color_scale", patch_color_scale}, {"patch_color_levels", patch_color_levels},
+          {"patch_color_gain", patch_color_gain},
+          {"color_smoothing", color_smoothing},
           {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
           {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
                     {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
@@ -155,7 +181,29 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
       }()),
       patches_(patch_hierarchy(mesh_.V, mesh_.F, options.initial_patches, options.levels)),
       mean_edge_(mean_edge_length(mesh_)),
-      height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()) {}
+      height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()) {
+  if (mesh_.has_colors()) smoothed_colors_ = smoothed_vertex_colors(mesh_.F, mesh_.colors, options.color_smoothing);
+}
+
+Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {
+  Eigen::MatrixXd current = colors;
+  if (rings <= 0 || colors.rows() == 0) return current;
+  // Each undirected edge once per face side; a vertex's neighbours may repeat across faces, which
+  // weights them by the faces they share (deterministic, close to uniform on a regular mesh).
+  Eigen::VectorXd count = Eigen::VectorXd::Ones(colors.rows());
+  for (long f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) count(F(f, k)) += 2;
+  for (int ring = 0; ring < rings; ++ring) {
+    Eigen::MatrixXd sum = current;
+    for (long f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(f, k), b = F(f, (k + 1) % 3), c = F(f, (k + 2) % 3);
+        sum.row(a) += current.row(b) + current.row(c);
+      }
+    current = sum.array().colwise() / count.array();
+  }
+  return current;
+}
 
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target) {
   Eigen::VectorXd distances(surface.rows());
@@ -238,6 +286,18 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     add_feature_targets(surface, F, pulls, options.coverage_weight, targets, weights);
   };
 
+  // Colour-aware patch correspondences when both meshes have colours.
+  std::unique_ptr<ColoredTarget> colored;
+  Eigen::MatrixXd target_smoothed_colors;
+  if (options.patch_color_scale > 0 && model.smoothed_colors().rows() == surface_count && target_colors != nullptr &&
+      target_colors->rows() == target.vertices().rows()) {
+    start = Clock::now();
+    target_smoothed_colors = smoothed_vertex_colors(target.faces(), *target_colors, options.color_smoothing);
+    colored = std::make_unique<ColoredTarget>(target.vertices(), target.faces(), target_smoothed_colors,
+                                              options.patch_color_scale);
+    result.timings.matching += seconds_since(start);
+  }
+
   // Coarse-to-fine rigid patch matching (casas2011 §3.2): the patch fits become soft constraints.
   for (std::size_t level = 0; level < model.patches().size(); ++level) {
     start = Clock::now();
@@ -252,12 +312,27 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     Eigen::MatrixXd targets = surface;
     Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
     for (const auto& members : patches.vertices) {
-      Eigen::MatrixXd points(static_cast<long>(members.size()), 3), point_normals(static_cast<long>(members.size()), 3);
-      for (std::size_t i = 0; i < members.size(); ++i) {
-        points.row(static_cast<long>(i)) = surface.row(members[i]);
-        point_normals.row(static_cast<long>(i)) = normals.row(members[i]);
+      const long size = static_cast<long>(members.size());
+      Eigen::MatrixXd points(size, 3), point_normals(size, 3), point_colors(colored ? size : 0, 3);
+      for (long i = 0; i < size; ++i) {
+        points.row(i) = surface.row(members[static_cast<std::size_t>(i)]);
+        point_normals.row(i) = normals.row(members[static_cast<std::size_t>(i)]);
+        if (colored) point_colors.row(i) = model.smoothed_colors().row(members[static_cast<std::size_t>(i)]);
       }
-      const RigidFit fit = fit_rigid(points, point_normals, target, icp);
+      RigidFit fit = fit_rigid(points, point_normals, target, icp);
+      if (colored && static_cast<int>(level) < options.patch_color_levels) {
+        // Model selection per patch: the colour-aware fit replaces the closest-point fit only when
+        // the patch's colours agree clearly better with the reconstruction's where it lands.
+        const RigidFit colour_fit = fit_rigid(points, point_normals, point_colors, *colored, icp);
+        const double closest_score = colour_disagreement(transformed(points, fit), point_colors, target,
+                                                         target_smoothed_colors, icp.max_distance);
+        const double colour_score = colour_disagreement(transformed(points, colour_fit), point_colors, target,
+                                                        target_smoothed_colors, icp.max_distance);
+        if (colour_score < options.patch_color_gain * closest_score) {
+          fit = colour_fit;
+          ++result.color_patches;
+        }
+      }
       ++result.total_patches;
       if (static_cast<double>(fit.inliers) < options.min_patch_inliers * static_cast<double>(members.size())) continue;
       ++result.accepted_patches;

@@ -35,6 +35,18 @@ struct PairwiseOptions {
   /// colour-weighted mean of the target vertices near the closest point (σ in RGB 0..1; ≤ 0: off).
   double color_sigma = 0.15;
   double color_radius_edges = 1.5;  ///< search radius of the photometric target, in template mean edges
+  /// Colour-aware rigid patch matching at the coarsest `patch_color_levels` levels, when both meshes
+  /// have colours: besides its closest-point fit, each patch is fitted with correspondences found in
+  /// position-colour space (nearest reconstruction vertex with this many metres per unit of RGB, then
+  /// the closest point of that vertex's faces; ≤ 0: off), with vertex colours smoothed over
+  /// `color_smoothing` rings on both meshes (texture detail averaged out, part colours kept); the
+  /// colour fit is taken when its colours agree clearly better (`patch_color_gain`).
+  double patch_color_scale = 1.0;
+  int patch_color_levels = 2;  ///< colour-aware at the coarsest this many patch levels (then closest points)
+  /// A patch's colour-aware fit replaces its closest-point fit when its colour disagreement is below
+  /// this fraction of the closest-point fit's.
+  double patch_color_gain = 0.8;
+  int color_smoothing = 2;
   /// Image features (SIFT matches between the parent's and the child's camera images): soft
   /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
   double feature_weight = 2.0;
@@ -59,6 +71,8 @@ class AlignmentTemplate {
   const core::Mesh& mesh() const { return mesh_; }
   const VolumeDeformer& deformer() const { return deformer_; }
   const std::vector<PatchSet>& patches() const { return patches_; }
+  /// The template's vertex colours smoothed for colour-aware patch matching (empty: no colours).
+  const Eigen::MatrixXd& smoothed_colors() const { return smoothed_colors_; }
   double mean_edge() const { return mean_edge_; }
   double height() const { return height_; }  ///< extent along y at rest (m)
   double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
@@ -68,6 +82,7 @@ class AlignmentTemplate {
   core::Mesh mesh_;
   VolumeDeformer deformer_;
   std::vector<PatchSet> patches_;
+  Eigen::MatrixXd smoothed_colors_;
   double mean_edge_ = 0;
   double height_ = 0;
 };
@@ -88,12 +103,16 @@ struct PairwiseResult {
   long flow_pixels = 0;         ///< pixel correspondences of the appearance flow (last flow iteration)
   long flow_vertices = 0;       ///< template vertices with a flow target (last flow iteration)
   int accepted_patches = 0, total_patches = 0;
+  int color_patches = 0;        ///< patch fits taken from the colour-aware matching
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
   double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
   PairwiseTimings timings;
 };
+
+/// Vertex colours averaged with their neighbours' `rings` times (uniform weights).
+Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings);
 
 /// Per surface vertex of `surface` (n×3 template connectivity): distance to the target surface.
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);

@@ -1,8 +1,109 @@
 #include "surfcap/align/rigid_icp.hpp"
 
+#include <flann/flann.hpp>
+
 #include <Eigen/Dense>
+#include <limits>
 
 namespace surfcap::align {
+
+struct ColoredTarget::Index {
+  std::vector<float> data;  // row-major n×6: position, scale × colour
+  std::unique_ptr<flann::Index<flann::L2_Simple<float>>> tree;
+};
+
+namespace {
+
+/// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, §5.1.5).
+Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denominator = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
+
+}  // namespace
+
+ColoredTarget::ColoredTarget(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors,
+                             double scale)
+    : V_(V), F_(F), face_normals_(F.rows(), 3), scale_(scale), index_(std::make_unique<Index>()) {
+  const auto n = static_cast<std::size_t>(V.rows());
+  ring_start_.assign(n + 1, 0);
+  for (long f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    face_normals_.row(f) = (normal.norm() > 0 ? normal.normalized() : normal).transpose();
+    for (int k = 0; k < 3; ++k) ++ring_start_[static_cast<std::size_t>(F(f, k)) + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) ring_start_[i + 1] += ring_start_[i];
+  ring_faces_.resize(static_cast<std::size_t>(ring_start_[n]));
+  std::vector<int> fill(ring_start_.begin(), ring_start_.end() - 1);
+  for (long f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ring_faces_[static_cast<std::size_t>(fill[static_cast<std::size_t>(F(f, k))]++)] = static_cast<int>(f);
+  index_->data.resize(6 * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      index_->data[6 * i + static_cast<std::size_t>(k)] = static_cast<float>(V(static_cast<long>(i), k));
+      index_->data[6 * i + 3 + static_cast<std::size_t>(k)] = static_cast<float>(scale * colors(static_cast<long>(i), k));
+    }
+  if (n == 0) return;
+  const flann::Matrix<float> dataset(index_->data.data(), n, 6);
+  index_->tree = std::make_unique<flann::Index<flann::L2_Simple<float>>>(dataset, flann::KDTreeSingleIndexParams(16));
+  index_->tree->buildIndex();
+}
+
+ColoredTarget::~ColoredTarget() = default;
+
+std::vector<int> ColoredTarget::nearest(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors) const {
+  const auto q = static_cast<std::size_t>(points.rows());
+  std::vector<int> indices(q, -1);
+  if (!index_->tree || q == 0) return indices;
+  std::vector<float> queries(6 * q);
+  for (std::size_t i = 0; i < q; ++i)
+    for (int k = 0; k < 3; ++k) {
+      queries[6 * i + static_cast<std::size_t>(k)] = static_cast<float>(points(static_cast<long>(i), k));
+      queries[6 * i + 3 + static_cast<std::size_t>(k)] = static_cast<float>(scale_ * colors(static_cast<long>(i), k));
+    }
+  std::vector<float> distances(q);
+  flann::Matrix<float> query(queries.data(), q, 6);
+  flann::Matrix<int> index_matrix(indices.data(), q, 1);
+  flann::Matrix<float> distance_matrix(distances.data(), q, 1);
+  flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+  params.cores = 1;  // callers parallelise over frames
+  index_->tree->knnSearch(query, index_matrix, distance_matrix, 1, params);
+  return indices;
+}
+
+std::pair<Eigen::Vector3d, Eigen::Vector3d> ColoredTarget::closest_around(int vertex, const Eigen::Vector3d& p) const {
+  Eigen::Vector3d best = V_.row(vertex).transpose(), normal = Eigen::Vector3d::Zero();
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (int r = ring_start_[static_cast<std::size_t>(vertex)]; r < ring_start_[static_cast<std::size_t>(vertex) + 1]; ++r) {
+    const int f = ring_faces_[static_cast<std::size_t>(r)];
+    const Eigen::Vector3d q = closest_on_triangle(p, V_.row(F_(f, 0)).transpose(), V_.row(F_(f, 1)).transpose(),
+                                                  V_.row(F_(f, 2)).transpose());
+    const double distance = (q - p).squaredNorm();
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = q;
+      normal = face_normals_.row(f).transpose();
+    }
+  }
+  return {best, normal};
+}
 
 bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen::Vector3d& point,
                               const Eigen::Vector3d& normal, double max_distance, double normal_compatibility,
@@ -12,12 +113,19 @@ bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen:
   return target.face_normal(closest.face).dot(normal) >= normal_compatibility;
 }
 
-RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const geometry::SurfaceQuery& target,
-                   const IcpOptions& options, const RigidFit& initial) {
+namespace {
+
+/// Point-to-plane ICP with a small point-to-point term; `correspond(moved points, moved normals,
+/// q, m, ok)` fills each point's target point q, target normal m and whether it is an inlier.
+template <class Correspond>
+RigidFit fit_rigid_with(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const IcpOptions& options,
+                        const RigidFit& initial, Correspond&& correspond) {
   RigidFit fit = initial;
   const long k = points.rows();
   if (k == 0) return fit;
   const Eigen::Vector3d centre = points.colwise().mean().transpose();
+  Eigen::MatrixXd moved(k, 3), moved_normals(k, 3), targets(k, 3), target_normals(k, 3);
+  std::vector<char> ok(static_cast<std::size_t>(k));
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
@@ -25,14 +133,17 @@ RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals
     double distance_sum = 0;
     const Eigen::Vector3d moved_centre = fit.apply(centre);
     for (long i = 0; i < k; ++i) {
-      const Eigen::Vector3d p = fit.apply(points.row(i).transpose());
-      const Eigen::Vector3d n = fit.rotation * normals.row(i).transpose();
-      geometry::SurfacePoint closest;
-      if (!compatible_closest_point(target, p, n, options.max_distance, options.normal_compatibility, closest)) continue;
+      moved.row(i) = fit.apply(points.row(i).transpose()).transpose();
+      moved_normals.row(i) = (fit.rotation * normals.row(i).transpose()).transpose();
+    }
+    correspond(moved, moved_normals, targets, target_normals, ok);
+    for (long i = 0; i < k; ++i) {
+      if (!ok[static_cast<std::size_t>(i)]) continue;
+      const Eigen::Vector3d p = moved.row(i).transpose();
+      const Eigen::Vector3d q = targets.row(i).transpose();
+      const Eigen::Vector3d m = target_normals.row(i).transpose();
       ++inliers;
-      distance_sum += closest.distance;
-      const Eigen::Vector3d q = closest.position;
-      const Eigen::Vector3d m = target.face_normal(closest.face);
+      distance_sum += (p - q).norm();
       const Eigen::Vector3d s = p - moved_centre;  // rotate about the centroid: better conditioned
       // Point-to-plane row: [s×m, m]·[ω, t] = −m·(p − q).
       Eigen::Matrix<double, 6, 1> row;
@@ -62,6 +173,46 @@ RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals
     if (angle < 1e-7 && step.tail<3>().norm() < 1e-7) break;
   }
   return fit;
+}
+
+}  // namespace
+
+RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const geometry::SurfaceQuery& target,
+                   const IcpOptions& options, const RigidFit& initial) {
+  return fit_rigid_with(points, normals, options, initial,
+                        [&](const Eigen::MatrixXd& moved, const Eigen::MatrixXd& moved_normals, Eigen::MatrixXd& q,
+                            Eigen::MatrixXd& m, std::vector<char>& ok) {
+                          for (long i = 0; i < moved.rows(); ++i) {
+                            geometry::SurfacePoint closest;
+                            ok[static_cast<std::size_t>(i)] = compatible_closest_point(
+                                target, moved.row(i).transpose(), moved_normals.row(i).transpose(),
+                                options.max_distance, options.normal_compatibility, closest);
+                            if (!ok[static_cast<std::size_t>(i)]) continue;
+                            q.row(i) = closest.position.transpose();
+                            m.row(i) = target.face_normal(closest.face).transpose();
+                          }
+                        });
+}
+
+RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const Eigen::MatrixXd& colors,
+                   const ColoredTarget& colored, const IcpOptions& options, const RigidFit& initial) {
+  return fit_rigid_with(points, normals, options, initial,
+                        [&](const Eigen::MatrixXd& moved, const Eigen::MatrixXd& moved_normals, Eigen::MatrixXd& q,
+                            Eigen::MatrixXd& m, std::vector<char>& ok) {
+                          const std::vector<int> nearest = colored.nearest(moved, colors);
+                          for (long i = 0; i < moved.rows(); ++i) {
+                            const int j = nearest[static_cast<std::size_t>(i)];
+                            auto& inlier = ok[static_cast<std::size_t>(i)];
+                            inlier = 0;
+                            if (j < 0) continue;
+                            const auto [x, n] = colored.closest_around(j, moved.row(i).transpose());
+                            if ((x - moved.row(i).transpose()).norm() > options.max_distance) continue;
+                            if (n.dot(moved_normals.row(i).transpose()) < options.normal_compatibility) continue;
+                            inlier = 1;
+                            q.row(i) = x.transpose();
+                            m.row(i) = n.transpose();
+                          }
+                        });
 }
 
 }  // namespace surfcap::align

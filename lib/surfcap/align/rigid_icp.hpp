@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <memory>
 #include <vector>
 
 #include "surfcap/geometry/surface_query.hpp"
@@ -27,6 +28,35 @@ struct RigidFit {
   Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return rotation * p + translation; }
 };
 
+/// The target's vertices in a joint space of position and colour, for colour-aware ("6-D")
+/// correspondences (Johnson & Kang's colour ICP): the nearest vertex minimises
+/// ‖p − q‖² + scale²‖c_p − c_q‖², so a patch of one colour is drawn to the part of the target that
+/// shows that colour instead of to whatever surface is nearest (a raised shoe onto the trousers).
+/// Exact k-d tree search (FLANN, single tree: deterministic). FLANN stays in rigid_icp.cpp.
+class ColoredTarget {
+ public:
+  /// The target mesh (V, F), colours (0..1) per vertex; `scale` metres per unit of RGB.
+  ColoredTarget(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, double scale);
+  ~ColoredTarget();
+  ColoredTarget(const ColoredTarget&) = delete;
+  ColoredTarget& operator=(const ColoredTarget&) = delete;
+  /// Nearest target vertex of each query row (points k×3 with colours k×3), in the joint space.
+  std::vector<int> nearest(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors) const;
+  /// The point of the faces around target vertex `vertex` closest to `p`, and that face's normal:
+  /// where the joint-space match is the vertex under p, this is p's own foot point (no pull along
+  /// the surface from the vertex spacing); elsewhere, a point of the matching colour region.
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> closest_around(int vertex, const Eigen::Vector3d& p) const;
+
+ private:
+  struct Index;
+  Eigen::MatrixXd V_;
+  Eigen::MatrixXi F_;
+  Eigen::MatrixXd face_normals_;
+  std::vector<int> ring_start_, ring_faces_;  ///< faces around each vertex (CSR)
+  double scale_ = 0;
+  std::unique_ptr<Index> index_;
+};
+
 /// Compatible correspondence of one source point: the closest target point, if it is within
 /// max_distance and its face normal agrees with `normal`.
 bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen::Vector3d& point,
@@ -37,5 +67,11 @@ bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen:
 /// `initial`. The result maps the original points.
 RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const geometry::SurfaceQuery& target,
                    const IcpOptions& options, const RigidFit& initial = {});
+
+/// The same fit with colour-aware correspondences: each point (with its colour, k×3, 0..1) is
+/// matched to the nearest vertex of `colored` in position-colour space, then gated by distance and
+/// normal compatibility against that vertex's normal.
+RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const Eigen::MatrixXd& colors,
+                   const ColoredTarget& colored, const IcpOptions& options, const RigidFit& initial = {});
 
 }  // namespace surfcap::align
