@@ -19,25 +19,46 @@ using namespace surfcap;
 
 // Template: an asymmetric body of 39·76 + 2 = 2,966 vertices; target: another tessellation of it,
 // bent and twisted.
-void BM_PairwiseAlignment3k(benchmark::State& state) {
+/// Part colours by height at rest (dark feet, grey legs, red skirt, blue shirt), as the synth
+/// actor's materials: what the colour-aware patch matching works on.
+Eigen::MatrixXd part_colours(const Eigen::MatrixXd& rest) {
+  Eigen::MatrixXd colours(rest.rows(), 3);
+  for (long v = 0; v < rest.rows(); ++v) {
+    const double y = rest(v, 1);
+    if (y < -0.7) colours.row(v) << 0.05, 0.05, 0.05;
+    else if (y < -0.2) colours.row(v) << 0.35, 0.35, 0.4;
+    else if (y < 0.1) colours.row(v) << 0.7, 0.15, 0.15;
+    else colours.row(v) << 0.15, 0.25, 0.7;
+  }
+  return colours;
+}
+
+void pairwise_alignment_3k(benchmark::State& state, bool colours) {
   omp_set_num_threads(1);
-  const core::Mesh template_mesh = align::testing::ellipsoid(40, 76);
+  core::Mesh template_mesh = align::testing::ellipsoid(40, 76);
   const core::Mesh target_rest = align::testing::ellipsoid(47, 70);
   const Eigen::MatrixXd target_V = align::testing::deform_points(target_rest.V, 0.6, 0.5, {0.05, 0.02, -0.04});
+  Eigen::MatrixXd target_colours;
+  if (colours) {
+    template_mesh.colors = part_colours(template_mesh.V);
+    target_colours = part_colours(target_rest.V);
+  }
   const align::PairwiseOptions options;
   double tetrahedralisation = 0, matching = 0, factorisation = 0, solves = 0, total = 0;
-  long iterations = 0;
+  long iterations = 0, colour_patches = 0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     const align::AlignmentTemplate model(template_mesh, options);  // tetrahedralisation + patches
     const geometry::SurfaceQuery target(target_V, target_rest.F);
-    const align::PairwiseResult result = align::align_pair(model, model.deformer().rest(), target, options);
+    const align::PairwiseResult result =
+        align::align_pair(model, model.deformer().rest(), target, options, colours ? &target_colours : nullptr);
     benchmark::DoNotOptimize(result.positions.data());
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     tetrahedralisation += model.seconds_tetrahedralisation();
     matching += result.timings.matching;
     factorisation += result.timings.factorisation;
     solves += result.timings.solves;
+    colour_patches = result.color_patches;
     ++iterations;
   }
   const double n = static_cast<double>(iterations);
@@ -47,8 +68,16 @@ void BM_PairwiseAlignment3k(benchmark::State& state) {
   state.counters["matching_s"] = matching / n;
   state.counters["factorisation_s"] = factorisation / n;
   state.counters["solves_s"] = solves / n;
+  if (colours) state.counters["colour_patches"] = static_cast<double>(colour_patches);
 }
+
+void BM_PairwiseAlignment3k(benchmark::State& state) { pairwise_alignment_3k(state, false); }
 BENCHMARK(BM_PairwiseAlignment3k)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The same with vertex colours on both meshes: the colour-aware patch fits at the two coarsest
+// levels (one more ICP per patch there, a k-d tree over the target) and the photometric dense fit.
+void BM_PairwiseAlignment3kColour(benchmark::State& state) { pairwise_alignment_3k(state, true); }
+BENCHMARK(BM_PairwiseAlignment3kColour)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // Image features of one frame seen by 8 cameras at 640×640 (detection + back-projection), and the
 // matching of two such frames (FLANN both ways, ratio, mutual, neighbour check), one core.
