@@ -188,8 +188,8 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {
   Eigen::MatrixXd current = colors;
   if (rings <= 0 || colors.rows() == 0) return current;
-  // Each undirected edge once per face side; a vertex's neighbours may repeat across faces, which
-  // weights them by the faces they share (deterministic, close to uniform on a regular mesh).
+  // Each face adds a vertex's two neighbours in it: a neighbour across an interior edge counts twice
+  // (once per face sharing the edge), a uniform weighting on a closed mesh.
   Eigen::VectorXd count = Eigen::VectorXd::Ones(colors.rows());
   for (long f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) count(F(f, k)) += 2;
