@@ -150,6 +150,36 @@ TEST(PairwiseAlignment, FollowsABendAndTwistOntoADifferentTessellation) {
   EXPECT_GT(result.dense_constraints, template_mesh.V.rows() * 9 / 10);
 }
 
+TEST(PairwiseAlignment, CoveragePullsDrawTheTemplateIntoPartsItLeftUncovered) {
+  // The target is the body stretched by 25 % along its long axis: the dense fit alone (one-sided,
+  // template → target) lays the template's ends on the target's sides and leaves the target's ends
+  // uncovered; the coverage pulls (target → template) draw the template out to them.
+  const core::Mesh template_mesh = testing::ellipsoid(18, 36);
+  const core::Mesh target_rest = testing::ellipsoid(23, 44);
+  Eigen::MatrixXd target_V = target_rest.V;
+  target_V.col(1) *= 1.25;
+  const geometry::SurfaceQuery target(target_V, target_rest.F);
+  PairwiseOptions options;
+  options.levels = 0;  // no patches: the dense fit and the pulls alone
+  auto align = [&](double coverage_weight) {
+    options.coverage_weight = coverage_weight;
+    const AlignmentTemplate model(template_mesh, options);
+    return align_pair(model, model.deformer().rest(), target, options);
+  };
+  const PairwiseResult without = align(0.0), with = align(3.0);
+  auto extent = [&](const PairwiseResult& r) {
+    const auto y = r.positions.topRows(template_mesh.V.rows()).col(1);
+    return y.maxCoeff() - y.minCoeff();
+  };
+  const double target_extent = target_V.col(1).maxCoeff() - target_V.col(1).minCoeff();
+  EXPECT_EQ(without.coverage_constraints, 0);
+  EXPECT_GT(with.coverage_constraints, 0);
+  EXPECT_GT(without.uncovered_fraction, 0.02) << "the stretch must leave the ends uncovered without the pulls";
+  EXPECT_LT(with.uncovered_fraction, 0.5 * without.uncovered_fraction);
+  EXPECT_LT(target_extent - extent(with), 0.5 * (target_extent - extent(without)))
+      << "extent " << extent(without) << " → " << extent(with) << " of " << target_extent;
+}
+
 TEST(TreeAlignment, RootMotionRecoversCentroidAndHeading) {
   const core::Mesh shape = testing::ellipsoid(12, 24);
   const double heading = 0.8;
