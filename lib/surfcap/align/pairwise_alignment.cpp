@@ -289,7 +289,8 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   // Colour-aware patch correspondences when both meshes have colours.
   std::unique_ptr<ColoredTarget> colored;
   Eigen::MatrixXd target_smoothed_colors;
-  if (options.patch_color_scale > 0 && model.smoothed_colors().rows() == surface_count && target_colors != nullptr &&
+  if (options.patch_color_scale > 0 && options.patch_color_levels > 0 && model.smoothed_colors().rows() == surface_count &&
+      target_colors != nullptr &&
       target_colors->rows() == target.vertices().rows()) {
     start = Clock::now();
     target_smoothed_colors = smoothed_vertex_colors(target.faces(), *target_colors, options.color_smoothing);
