@@ -64,6 +64,12 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_option("--patch-color-gain", p.patch_color_gain,
                   "Colour-aware patch fit used when its colour disagreement is below this fraction of the closest-point fit's");
   cmd->add_option("--color-smoothing", p.color_smoothing, "Rings of vertex-colour smoothing for patch matching");
+  cmd->add_option("--motion-prediction", options.motion_prediction,
+                  "Predict a child from its next two aligned frames: parent + this × (parent − grandparent) (0: off)")
+      ->check(CLI::Range(0.0, 2.0));
+  cmd->add_option("--prediction-levels", p.prediction_levels, "Patch levels that also try the motion-predicted start");
+  cmd->add_option("--prediction-gain", p.prediction_gain,
+                  "Predicted patch fit used when its mean distance is below this fraction of the other fit's");
   cmd->add_option("--feature-weight", p.feature_weight, "Weight of image feature matches (0: geometry only)");
   cmd->add_option("--coverage-weight", p.coverage_weight, "Weight of the coverage (reconstruction → template) pulls (0: off)");
   cmd->add_option("--flow-weight", p.flow.weight, "Weight of the appearance-flow targets (0: off)");

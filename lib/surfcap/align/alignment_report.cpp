@@ -68,7 +68,7 @@ core::Json alignment_figures(const Registration& registration) {
   double mean_sum = 0, worst = 0;
   long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
   int max_depth = 0;
-  long retried = 0, unrecovered = 0;
+  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0;
   for (const auto& record : registration.frames) {
     const auto& a = record.alignment;
     core::Json attempts = core::Json::array();
@@ -91,6 +91,8 @@ core::Json alignment_figures(const Registration& registration) {
                                            {"coverage", a.coverage_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
                       {"accepted_patches", a.accepted_patches},
                       {"color_patches", a.color_patches},
+                      {"predicted", a.predicted},
+                      {"predicted_patches", a.predicted_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
                       {"image_features", record.features},
@@ -107,6 +109,8 @@ core::Json alignment_figures(const Registration& registration) {
     coverage += a.coverage_constraints;
     flow += a.flow_vertices;
     max_depth = std::max(max_depth, record.depth);
+    predicted_frames += a.predicted ? 1 : 0;
+    predicted_patches += a.predicted_patches;
   }
   const double count = std::max<double>(1.0, static_cast<double>(registration.frames.size()));
   return {{"frames", frames},
@@ -116,6 +120,8 @@ core::Json alignment_figures(const Registration& registration) {
                        {"max_depth", max_depth},
                        {"frames_with_failed_attempts", retried},
                        {"frames_unrecovered", unrecovered},
+                       {"frames_predicted", predicted_frames},
+                       {"predicted_patches", predicted_patches},
                        {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature},
                                            {"coverage", coverage}, {"flow", flow}}},
                        {"deformer", registration.deformer_model},

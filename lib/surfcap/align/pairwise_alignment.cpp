@@ -1,5 +1,6 @@
 #include "surfcap/align/pairwise_alignment.hpp"
 
+#include <Eigen/SVD>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -34,6 +35,19 @@ double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::Surf
 
 Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) {
   return ((points * fit.rotation.transpose()).rowwise() + fit.translation.transpose()).eval();
+}
+
+/// The rigid motion best taking `from` onto `to` (rows paired; Kabsch).
+RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to) {
+  const Eigen::RowVector3d a = from.colwise().mean(), b = to.colwise().mean();
+  const Eigen::Matrix3d covariance = (from.rowwise() - a).transpose() * (to.rowwise() - b);
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
+  flip(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  RigidFit fit;
+  fit.rotation = svd.matrixV() * flip * svd.matrixU().transpose();
+  fit.translation = b.transpose() - fit.rotation * a.transpose();
+  return fit;
 }
 
 /// Whole-body rigid initialisation: centroids matched, ICP; if the result does not overlap, the
@@ -142,6 +156,8 @@ void PairwiseOptions::validate() const {
   require(heading_samples >= 1, "heading samples must be ≥ 1");
   require(patch_color_levels >= 0, "patch colour levels must be ≥ 0");
   require(patch_color_gain > 0 && patch_color_gain <= 1, "patch colour gain must be in (0, 1]");
+  require(prediction_levels >= 0, "prediction levels must be ≥ 0");
+  require(prediction_gain > 0 && prediction_gain <= 1, "prediction gain must be in (0, 1]");
   require(color_smoothing >= 0 && color_smoothing <= 20, "colour smoothing must be in 0..20 rings");
   require(std::isfinite(patch_color_scale), "patch colour scale must be finite");
   require(features.ratio > 0 && features.ratio <= 1, "feature ratio must be in (0, 1]");
@@ -160,6 +176,7 @@ core::Json PairwiseOptions::to_json() const {
           {"patch_color_scale", patch_color_scale}, {"patch_color_levels", patch_color_levels},
           {"patch_color_gain", patch_color_gain},
           {"color_smoothing", color_smoothing},
+          {"prediction_levels", prediction_levels}, {"prediction_gain", prediction_gain},
           {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
           {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
                     {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
@@ -213,12 +230,16 @@ Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry
 
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
                           const geometry::SurfaceQuery& target, const PairwiseOptions& options,
-                          const Eigen::MatrixXd* target_colors, const FeaturePair& features) {
+                          const Eigen::MatrixXd* target_colors, const FeaturePair& features,
+                          const Eigen::MatrixXd* predicted_surface) {
   const VolumeDeformer& deformer = model.deformer();
   const long surface_count = deformer.surface_vertex_count();
   const Eigen::MatrixXi& F = model.mesh().F;
   if (parent_positions.rows() != deformer.vertex_count()) throw core::internal_error("align_pair: parent size");
+  if (predicted_surface != nullptr && predicted_surface->rows() != surface_count)
+    throw core::internal_error("align_pair: predicted surface size");
   PairwiseResult result;
+  result.predicted = predicted_surface != nullptr;
   Eigen::MatrixXd positions = parent_positions;
 
   auto start = Clock::now();
@@ -332,6 +353,21 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
         if (colour_score < options.patch_color_gain * closest_score) {
           fit = colour_fit;
           ++result.color_patches;
+        }
+      }
+      if (predicted_surface != nullptr && static_cast<int>(level) < options.prediction_levels) {
+        // Model selection per patch: a fit started where the motion prediction puts the patch
+        // (the rigid motion taking it there) replaces the fit from the parent's pose when it
+        // lies clearly closer to the reconstruction with no fewer compatible matches — a limb
+        // swinging farther in one frame than the correspondence gate is found where it went.
+        Eigen::MatrixXd goal(size, 3);
+        for (long i = 0; i < size; ++i) goal.row(i) = predicted_surface->row(members[static_cast<std::size_t>(i)]);
+        const RigidFit predicted_fit = fit_rigid(points, point_normals, target, icp, best_rigid_motion(points, goal));
+        const double current_score = clamped_mean_distance(transformed(points, fit), target, icp.max_distance);
+        const double predicted_score = clamped_mean_distance(transformed(points, predicted_fit), target, icp.max_distance);
+        if (predicted_score < options.prediction_gain * current_score && predicted_fit.inliers >= fit.inliers) {
+          fit = predicted_fit;
+          ++result.predicted_patches;
         }
       }
       ++result.total_patches;

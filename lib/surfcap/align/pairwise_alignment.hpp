@@ -47,6 +47,12 @@ struct PairwiseOptions {
   /// this fraction of the closest-point fit's.
   double patch_color_gain = 0.8;
   int color_smoothing = 2;
+  /// Motion prediction (when align_pair is given a predicted surface): at the coarsest
+  /// `prediction_levels` levels each patch is also fitted from its predicted pose; that fit is
+  /// taken when its clamped mean distance to the reconstruction is below `prediction_gain` × the
+  /// other fit's, with no fewer inliers.
+  int prediction_levels = 1;
+  double prediction_gain = 0.8;
   /// Image features (SIFT matches between the parent's and the child's camera images): soft
   /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
   double feature_weight = 2.0;
@@ -104,6 +110,8 @@ struct PairwiseResult {
   long flow_vertices = 0;       ///< template vertices with a flow target (last flow iteration)
   int accepted_patches = 0, total_patches = 0;
   int color_patches = 0;        ///< patch fits taken from the colour-aware matching
+  bool predicted = false;       ///< a motion prediction was given (align_pair's predicted_surface)
+  int predicted_patches = 0;    ///< patch fits taken from the motion-predicted start
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
@@ -128,9 +136,12 @@ struct FeaturePair {
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
 /// reconstruction, queried through `target_query`); `target_colors` (per target vertex, 0..1) enables
-/// the photometric dense fit when the template has colours too.
+/// the photometric dense fit when the template has colours too. `predicted_surface` (template
+/// surface vertices, world), when given, is where a motion prediction expects the child: the
+/// coarsest patch levels also try it as a start (PairwiseOptions::prediction_levels).
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
                           const geometry::SurfaceQuery& target_query, const PairwiseOptions& options,
-                          const Eigen::MatrixXd* target_colors = nullptr, const FeaturePair& features = {});
+                          const Eigen::MatrixXd* target_colors = nullptr, const FeaturePair& features = {},
+                          const Eigen::MatrixXd* predicted_surface = nullptr);
 
 }  // namespace surfcap::align

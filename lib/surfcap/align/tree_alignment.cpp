@@ -203,6 +203,20 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       const auto failure_score = [&](const PairwiseResult& r) {
         return std::max(r.mean_residual / options.failure_residual, r.uncovered_fraction / options.max_uncovered);
       };
+      // The child's surface predicted from `from` (all deformer vertices `parent`) and from's own
+      // parent, when they are the child's next two frames in its sequence; empty otherwise.
+      auto motion_prediction = [&](long from, const Eigen::MatrixXd& parent) -> Eigen::MatrixXd {
+        if (options.motion_prediction <= 0 || options.parent_surface) return {};
+        const long grand = registration.frames[static_cast<std::size_t>(from)].parent;
+        if (grand < 0) return {};
+        const NodeFrame a = nodes[static_cast<std::size_t>(grand)], b = nodes[static_cast<std::size_t>(from)];
+        if (a.sequence != child.sequence || b.sequence != child.sequence || std::abs(child.frame - b.frame) != 1 ||
+            child.frame - b.frame != b.frame - a.frame)
+          return {};
+        const long n = model.deformer().surface_vertex_count();
+        return parent.topRows(n) +
+               options.motion_prediction * (parent.topRows(n) - positions[static_cast<std::size_t>(grand)].topRows(n));
+      };
       // One attempt from `from`; nullopt (and a record of why) if it throws or fits badly.
       auto attempt = [&](long from) -> std::optional<PairwiseResult> {
         FrameFeatures other;  // an alternative parent's features were released with its depth
@@ -223,8 +237,10 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         try {
           const Eigen::MatrixXd parent = options.parent_surface ? pose_volume(model, options.parent_surface(from))
                                                                 : positions[static_cast<std::size_t>(from)];
+          const Eigen::MatrixXd predicted = motion_prediction(from, parent);
           PairwiseResult result = align_pair(model, parent, query, options.pairwise,
-                                             target.has_colors() ? &target.colors : nullptr, pair);
+                                             target.has_colors() ? &target.colors : nullptr, pair,
+                                             predicted.rows() > 0 ? &predicted : nullptr);
           if (failure_score(result) <= 1) return result;
           record.failed_attempts.push_back(
               {from, result.mean_residual, result.uncovered_fraction,

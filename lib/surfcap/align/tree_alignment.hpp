@@ -47,6 +47,12 @@ struct RegisterOptions {
   double max_uncovered = 0.01;  ///< or more than this fraction of the reconstruction is not covered (1: off)
   int retries = 2;
   const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
+  /// Motion prediction along the tree: when a child's parent and grandparent are its next two
+  /// frames of the same sequence (frames f+1, f+2 → f, or f−1, f−2 → f), the child is predicted at
+  /// parent + `motion_prediction` × (parent − grandparent), per vertex, and the coarsest patch
+  /// levels also try that start (PairwiseOptions::prediction_levels; ≤ 0: off). A limb that moves
+  /// farther in a frame than the patch gate (a running stride) is matched where it went.
+  double motion_prediction = 1.0;
   /// Diagnostics: when set, every child is aligned from the template surface this returns for its
   /// parent node (e.g. the ground truth) instead of from the aligned parent — each edge's own error.
   std::function<Eigen::MatrixXd(long node)> parent_surface;
