@@ -91,6 +91,9 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
                   "Fraction of a reconstruction left uncovered by the aligned template above which a frame failed")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--retries", options.retries, "Alternative parents tried for a failed frame")->check(CLI::Range(0, 10));
+  cmd->add_option("--entry-candidates", options.entry_candidates,
+                  "An edge from another sequence is also aligned from the most similar frame of up to N other sequences")
+      ->check(CLI::Range(0, 10));
   cmd->add_flag("--surface-model", surface_model, "Deform with a surface Laplacian instead of the tet volume");
   cmd->add_flag("--no-evaluation", no_evaluation, "Do not compare with ground_truth/ even if the capture has it");
   cmd->add_flag("--edge-diagnostics", state.edge_diagnostics,

@@ -98,6 +98,7 @@ core::Json alignment_figures(const Registration& registration) {
                       {"image_features", record.features},
                       {"failed_attempts", attempts},
                       {"unrecovered", record.unrecovered},
+                      {"entry_attempts", record.entry_attempts},
                       {"seconds", record.seconds},
                       {"timings_s", {{"matching", a.timings.matching}, {"factorisation", a.timings.factorisation},
                                      {"solves", a.timings.solves}}}});

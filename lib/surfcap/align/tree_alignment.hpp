@@ -53,6 +53,10 @@ struct RegisterOptions {
   /// levels also try that start (PairwiseOptions::prediction_levels; ≤ 0: off). A limb that moves
   /// farther in a frame than the patch gate (a running stride) is matched where it went.
   double motion_prediction = 1.0;
+  /// An edge whose parent is in another sequence than its child is also aligned from the most
+  /// similar already aligned frame of up to this many other sequences (by `costs`); the attempt
+  /// with the lowest mean residual is kept (0: the tree parent only).
+  int entry_candidates = 2;
   /// Diagnostics: when set, every child is aligned from the template surface this returns for its
   /// parent node (e.g. the ground truth) instead of from the aligned parent — each edge's own error.
   std::function<Eigen::MatrixXd(long node)> parent_surface;
@@ -76,6 +80,7 @@ struct FrameRecord {
   };
   std::vector<Attempt> failed_attempts;  ///< every attempt that failed (`parent` is the one kept)
   bool unrecovered = false;              ///< even the kept attempt is above the failure threshold
+  int entry_attempts = 0;                ///< alternative parents tried for an edge entering the sequence
 };
 
 struct Registration {
