@@ -5,7 +5,7 @@
 # Usage: scripts/demo.sh [OUT_DIR]   (default out/demo)
 # Environment:
 #   DATABASE=aligned|truth  which database the stages after alignment read (default aligned: the
-#                           output of surfcap-align, 0.91 % RMS / 1.97 % worst frame of the height
+#                           output of surfcap-align, 0.92 % RMS / 1.94 % worst frame of the height
 #                           on this capture, docs/align.md "Status"; truth: the capture's ground
 #                           truth, to compare the later stages without the alignment's error)
 #   ROOT (default walk:0)   the template frame: a stride of the walk aligns the demo far better than

@@ -1,6 +1,6 @@
 #include "surfcap/align/pairwise_alignment.hpp"
 
-#include <Eigen/SVD>
+#include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -37,16 +37,12 @@ Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) 
   return ((points * fit.rotation.transpose()).rowwise() + fit.translation.transpose()).eval();
 }
 
-/// The rigid motion best taking `from` onto `to` (rows paired; Kabsch).
+/// The rigid motion best taking `from` onto `to` (rows paired; Eigen's Umeyama, no scaling).
 RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to) {
-  const Eigen::RowVector3d a = from.colwise().mean(), b = to.colwise().mean();
-  const Eigen::Matrix3d covariance = (from.rowwise() - a).transpose() * (to.rowwise() - b);
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  flip(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Eigen::Matrix4d motion = Eigen::umeyama(from.transpose(), to.transpose(), false);
   RigidFit fit;
-  fit.rotation = svd.matrixV() * flip * svd.matrixU().transpose();
-  fit.translation = b.transpose() - fit.rotation * a.transpose();
+  fit.rotation = motion.topLeftCorner<3, 3>();
+  fit.translation = motion.topRightCorner<3, 1>();
   return fit;
 }
 
