@@ -252,6 +252,11 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           return std::nullopt;
         }
       };
+      // A frame another parent can be: aligned already (a lower depth) and not failed itself.
+      const auto usable_parent = [&](long other) {
+        return other != edge.child && node_depth[static_cast<std::size_t>(other)] < edge.depth &&
+               !registration.frames[static_cast<std::size_t>(other)].unrecovered;
+      };
       std::optional<PairwiseResult> best = attempt(edge.parent);
       long best_parent = edge.parent;
       // A failure inherited from an unrecovered parent is reported, not retried (its alternatives
@@ -261,8 +266,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         // Next-best neighbours: frames of lower depth (already aligned), by similarity cost.
         std::vector<std::pair<double, long>> candidates;
         for (long other = 0; other < node_count; ++other)
-          if (other != edge.parent && other != edge.child && node_depth[static_cast<std::size_t>(other)] < edge.depth &&
-              !registration.frames[static_cast<std::size_t>(other)].unrecovered)
+          if (other != edge.parent && usable_parent(other))
             candidates.push_back({(*options.costs)(edge.child, other), other});
         std::sort(candidates.begin(), candidates.end());
         for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
@@ -289,10 +293,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         std::map<int, std::pair<double, long>> by_sequence;  // most similar aligned frame per sequence
         for (long other = 0; other < node_count; ++other) {
           const int sequence = nodes[static_cast<std::size_t>(other)].sequence;
-          if (sequence == nodes[static_cast<std::size_t>(edge.parent)].sequence || other == edge.child ||
-              node_depth[static_cast<std::size_t>(other)] >= edge.depth ||
-              registration.frames[static_cast<std::size_t>(other)].unrecovered)
-            continue;
+          if (sequence == nodes[static_cast<std::size_t>(edge.parent)].sequence || !usable_parent(other)) continue;
           const double cost = (*options.costs)(edge.child, other);
           const auto found = by_sequence.find(sequence);
           if (found == by_sequence.end() || cost < found->second.first) by_sequence[sequence] = {cost, other};
