@@ -4,11 +4,13 @@
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # and exit codes. The template is a stride of the walk (--root walk:0, as scripts/demo.sh does;
 # the automatic root, a landing crouch, aligns worse). The error bounds guard the level reached
-# today (measured RMS 1.59% of the height, worst frame 2.73%, with the motion prediction and the
-# entry candidates of session 5; 1.58% / 2.38% in session 4, 2.54% / 4.04% before; the ASan build
-# synthesises another tiny capture: 1.63% / 2.63% in session 5 before the Umeyama change, 1.80% /
-# 3.48% in session 4; bounds 2.0% / 3.6%). Of the issue's targets only the worst frame (2%) is met,
-# on demo; the RMS (0.5%) is met on neither capture — see docs/align.md "Status".
+# today: measured RMS 1.28% of the height, worst frame 2.87%, with the soft-constraint weights of
+# session 6 (0.3 × session 5's). The figures are chaotic: with the coverage weight at 0.89, 0.91 or
+# 0.8999999999999999 (3 × 0.3 in floating point) instead of 0.9, or the dense weight at 0.301, the
+# RMS was 1.18–1.22% and the worst frame 2.01–2.71% (docs/align.md "Status"). Session 5: 1.59% /
+# 2.73%; session 4: 1.58% / 2.38%; the ASan build synthesises another tiny capture (1.63% / 2.63%
+# in session 5). Bounds 1.8% / 3.6%. Of the issue's targets only the worst frame (2%) is met, on
+# demo; the RMS (0.5%) is met on neither capture.
 set -euo pipefail
 build=$1
 synth=$build/tools/surfcap-synth
@@ -31,7 +33,7 @@ perl -MJSON::PP -e '
   printf "RMS %.3f%% of height, worst frame %s %.3f%%\n", $g->{rms_percent_height}, $g->{worst_frame},
          $g->{worst_frame_rms_percent_height};
   printf "  depth %d: %.3f%%\n", $_->{depth}, $_->{rms_percent_height} for @{$g->{by_depth}};
-  die "RMS error above 2.0% of the height\n" if $g->{rms_percent_height} > 2.0;
+  die "RMS error above 1.8% of the height\n" if $g->{rms_percent_height} > 1.8;
   die "worst frame above 3.6% of the height\n" if $g->{worst_frame_rms_percent_height} > 3.6;
   die "root appearance covers too little\n" unless $r->{summary}{appearance_coverage} > 0.5;
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};

@@ -20,7 +20,7 @@
 namespace surfcap::align {
 
 struct FlowOptions {
-  double weight = 2.0;             ///< soft-constraint weight of a flow target (relative to L's diagonal); ≤ 0: off
+  double weight = 0.6;             ///< soft-constraint weight of a flow target (relative to L's diagonal); ≤ 0: off
   int iterations = 3;              ///< flow iterations after the dense fit (render, flow, solve)
   int patch_levels = 0;            ///< also at the last this many rigid-patch levels (with the patch targets)
   int stride = 1;                  ///< pixel step of the constraint grid

@@ -23,10 +23,10 @@ struct PairwiseOptions {
   int levels = 4;                   ///< patch levels, doubling the count each level
   int patch_icp_iterations = 6;
   int rotation_iterations = 3;      ///< rotation updates (solves) per level and per dense iteration
-  double patch_weight = 0.3;        ///< soft-constraint weight of a patch target (relative to L's diagonal)
+  double patch_weight = 0.09;        ///< soft-constraint weight of a patch target (relative to L's diagonal)
   double min_patch_inliers = 0.5;   ///< a patch fit is used if this fraction of its vertices found a match
   int dense_iterations = 4;
-  double dense_weight = 1.0;        ///< weight of a dense closest-point target
+  double dense_weight = 0.3;        ///< weight of a dense closest-point target
   double normal_compatibility = 0.5;  ///< minimum cosine between normals of matched points
   double coarse_distance = 0.08;    ///< correspondence gate at level 0, fraction of the template's height
   double dense_distance_edges = 3;  ///< dense-fit gate, in template mean edge lengths
@@ -55,11 +55,11 @@ struct PairwiseOptions {
   double prediction_gain = 0.8;
   /// Image features (SIFT matches between the parent's and the child's camera images): soft
   /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
-  double feature_weight = 2.0;
+  double feature_weight = 0.6;
   FeatureOptions features;
   /// Coverage constraints: reconstruction vertices left uncovered by the aligned template pull their
   /// closest template point, with this weight per vertex (≤ 0: off).
-  double coverage_weight = 3.0;
+  double coverage_weight = 0.9;
   /// Dense optical flow against the root frame's appearance (appearance_flow.hpp): iterations after
   /// the dense fit, when the template's root appearance and the child's images are given.
   FlowOptions flow;
