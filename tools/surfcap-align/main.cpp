@@ -25,6 +25,7 @@ struct Arguments {
   std::string rows;
   std::string search = "fft";
   std::string root;
+  double root_candidates = 0.25;
   std::string ground_truth;
 };
 
@@ -105,7 +106,8 @@ void run_tree(const Arguments& args, const core::ToolApp& app) {
   similarity::SimilarityTree tree;
   {
     auto timer = report.time("spanning_tree");
-    tree = similarity::similarity_tree(matrix.cast<double>(), root);
+    tree = similarity::similarity_tree(matrix.cast<double>(), root, std::nullopt,
+                                       similarity::wide_stance_roots(set.stance, args.root_candidates));
   }
   similarity::write_tree(args.out, tree, set.frames);
   similarity::write_similarity_png(std::filesystem::path(args.out) / "similarity" / "tree.png", matrix,
@@ -113,6 +115,7 @@ void run_tree(const Arguments& args, const core::ToolApp& app) {
   auto& figures = report.figures();
   figures["frames"] = n;
   figures["root"] = set.frames.label(tree.root);
+  if (!set.stance.empty()) figures["root_stance"] = set.stance[static_cast<std::size_t>(tree.root)];
   figures["threshold"] = tree.threshold;
   figures["components_after_pruning"] = tree.components_after_pruning;
   figures["joining_edges"] = tree.joining_edges;
@@ -170,7 +173,9 @@ int main(int argc, char** argv) {
 
   auto* tree = cli.add_subcommand("tree", "Shape similarity tree (pruned minimum spanning tree)");
   tree->add_option("--out", args.out, "Database folder holding similarity/matrix.npy")->required();
-  tree->add_option("--root", args.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth)");
+  tree->add_option("--root", args.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth among the widest-stance frames)");
+  tree->add_option("--root-candidates", args.root_candidates, "Automatic root: among this fraction of the frames with the widest stance (1: every frame)")
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
   tree->add_option("--ground-truth", args.ground_truth,
                    "Ground-truth aligned database.json: report the tree's quality ratio");
 

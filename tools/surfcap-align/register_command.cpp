@@ -26,6 +26,7 @@ struct RegisterCommands::State {
   std::string capture;
   std::string out;
   std::string root;
+  double root_candidates = 0.25;
   align::RegisterOptions options;
   bool surface_model = false;
   bool no_evaluation = false;
@@ -260,11 +261,14 @@ void run_similarity_chain(const RegisterCommands::State& state, const core::Tool
     auto timer = report.time("tree");
     std::optional<int> root;
     if (!state.root.empty()) root = static_cast<int>(set.frames.node(state.root));
-    tree = similarity::similarity_tree(matrix.cast<double>(), root);
+    tree = similarity::similarity_tree(matrix.cast<double>(), root, std::nullopt,
+                                       similarity::wide_stance_roots(set.stance, state.root_candidates));
   }
   similarity::write_tree(out, tree, set.frames);
   similarity::write_similarity_png(out / "similarity" / "tree.png", matrix, index, &tree);
-  report.figures()["tree"] = {{"root", set.frames.label(tree.root)}, {"threshold", tree.threshold},
+  report.figures()["tree"] = {{"root", set.frames.label(tree.root)},
+                              {"root_stance", set.stance[static_cast<std::size_t>(tree.root)]},
+                              {"threshold", tree.threshold},
                               {"components_after_pruning", tree.components_after_pruning},
                               {"max_depth", *std::max_element(tree.depth.begin(), tree.depth.end())}};
 }
@@ -282,7 +286,9 @@ RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::
   s.run_cmd = cli.add_subcommand("run", "histograms → similarity → tree → register in one go");
   s.run_cmd->add_option("--capture", s.capture, "Capture folder (or its capture.json)")->required();
   s.run_cmd->add_option("--out", s.out, "Database folder to write")->required();
-  s.run_cmd->add_option("--root", s.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth)");
+  s.run_cmd->add_option("--root", s.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth among the widest-stance frames)");
+  s.run_cmd->add_option("--root-candidates", s.root_candidates, "Automatic root: among this fraction of the frames with the widest stance (1: every frame)")
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
   s.run_cmd->add_option("--voxel-size", s.histogram.voxel_size, "Volume sampling grid spacing (m)");
   s.run_cmd->add_option("--window", s.similarity.temporal_window, "Temporal filter half-width k (frames)")
       ->check(CLI::Range(0, 50));

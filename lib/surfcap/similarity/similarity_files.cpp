@@ -1,6 +1,8 @@
 #include "surfcap/similarity/similarity_files.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <atomic>
+#include <limits>
 #include <map>
 #include <regex>
 
@@ -45,6 +47,30 @@ long FrameList::node(const std::string& label) const {
   throw core::bad_arguments("--root '" + label + "': expected <sequence>:<frame> of a captured frame");
 }
 
+double stance_width(const core::Mesh& mesh) {
+  const long n = mesh.vertex_count();
+  if (n == 0) return 0;
+  const double low = mesh.V.col(1).minCoeff(), height = mesh.V.col(1).maxCoeff() - low;
+  if (!(height > 0)) return 0;
+  std::vector<Eigen::Vector2d> feet;
+  for (long v = 0; v < n; ++v)
+    if (mesh.V(v, 1) <= low + 0.15 * height) feet.emplace_back(mesh.V(v, 0), mesh.V(v, 2));
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : feet) mean += p;
+  mean /= static_cast<double>(feet.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (const auto& p : feet) covariance += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
+  const Eigen::Vector2d axis = eigen.eigenvectors().col(1);  // largest eigenvalue last
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& p : feet) {
+    const double t = (p - mean).dot(axis);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  return (hi - lo) / height;
+}
+
 HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogramOptions& options, int threads,
                                 const core::ProgressCallback& progress) {
   options.validate();
@@ -59,6 +85,7 @@ HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogr
       jobs.emplace_back(static_cast<int>(s), frame);
   }
   set.histograms.resize(static_cast<long>(jobs.size()), options.size());
+  set.stance.assign(jobs.size(), 0.0);
   std::atomic<std::size_t> done{0};
   core::parallel_for(static_cast<long>(jobs.size()), threads, [&](long job) {
     const auto [sequence, frame] = jobs[static_cast<std::size_t>(job)];
@@ -66,6 +93,7 @@ HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogr
     const core::Mesh mesh = core::read_reconstruction(path, frame);
     try {
       set.histograms.row(job) = shape_histogram(mesh, options).cast<float>().transpose();
+      set.stance[static_cast<std::size_t>(job)] = stance_width(mesh);
     } catch (const core::Error& e) {
       throw core::bad_input(path, e.what(), frame);
     }
@@ -85,6 +113,7 @@ void write_histograms(const std::filesystem::path& database, const HistogramSet&
                          {"histograms", "histograms.npy"},
                          {"options", set.options.to_json()},
                          {"sequences", sequences},
+                         {"stance", set.stance},
                          {"capture", set.capture}});
 }
 
@@ -106,6 +135,12 @@ HistogramSet read_histograms(const std::filesystem::path& database) {
   const auto npy_path = database / "similarity" / core::get_field<std::string>(document, "histograms", json_path);
   const core::NpyArray array = core::read_npy(npy_path, core::DType::float32, {total, set.options.size()});
   set.histograms = Eigen::Map<const FloatRows>(array.data<float>(), total, set.options.size());
+  if (document.contains("stance")) {
+    set.stance = core::get_field<std::vector<double>>(document, "stance", json_path);
+    if (static_cast<long>(set.stance.size()) != total)
+      throw core::bad_input(json_path, "'stance' has " + std::to_string(set.stance.size()) + " entries for " +
+                                           std::to_string(total) + " frames");
+  }
   return set;
 }
 

@@ -40,7 +40,15 @@ struct HistogramSet {
   ShapeHistogramOptions options;
   FloatRows histograms;  ///< N×B
   std::string capture;   ///< the capture folder it came from (provenance)
+  /// Per frame, stance_width of its mesh (the automatic template choice); empty when read from a
+  /// histograms.json written before session 6.
+  std::vector<double> stance;
 };
+
+/// How far apart the feet are, as a fraction of the height: the extent of the lowest 15 % of the
+/// mesh's vertices (by height, +y up) along their principal horizontal axis, over the mesh's
+/// height. A stride or a straddle is wide; legs together, a crouch or a jump's tuck are narrow.
+double stance_width(const core::Mesh& mesh);
 
 /// Histograms of every frame of a capture, in parallel. Each frame's mesh is read and checked
 /// (non-manifold edges and small defects are tolerated with a warning; the volume sampling copes);

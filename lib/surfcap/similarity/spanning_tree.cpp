@@ -1,6 +1,8 @@
 #include "surfcap/similarity/spanning_tree.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <queue>
@@ -98,9 +100,26 @@ double automatic_threshold(const Eigen::MatrixXd& costs) {
   return threshold;
 }
 
-SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root, std::optional<double> threshold) {
+std::vector<bool> wide_stance_roots(const std::vector<double>& stance, double fraction) {
+  if (stance.empty()) return {};
+  std::vector<double> sorted = stance;
+  std::sort(sorted.begin(), sorted.end(), std::greater<>());
+  const auto keep = static_cast<std::size_t>(
+      std::clamp(std::ceil(fraction * static_cast<double>(sorted.size())), 1.0, static_cast<double>(sorted.size())));
+  const double limit = sorted[keep - 1];
+  std::vector<bool> eligible(stance.size());
+  for (std::size_t i = 0; i < stance.size(); ++i) eligible[i] = stance[i] >= limit;
+  return eligible;
+}
+
+SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root, std::optional<double> threshold,
+                               const std::vector<bool>& eligible_roots) {
   const int n = static_cast<int>(costs.rows());
   if (n == 0 || costs.cols() != n) throw core::internal_error("similarity_tree: the cost matrix must be square and non-empty");
+  if (!eligible_roots.empty() &&
+      (eligible_roots.size() != static_cast<std::size_t>(n) ||
+       std::find(eligible_roots.begin(), eligible_roots.end(), true) == eligible_roots.end()))
+    throw core::internal_error("similarity_tree: eligible roots must flag at least one of the N nodes");
   if (root && (*root < 0 || *root >= n)) throw core::bad_arguments("root node " + std::to_string(*root) + " is out of range");
   SimilarityTree tree;
   tree.threshold = threshold.value_or(automatic_threshold(costs));
@@ -128,7 +147,15 @@ SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> 
   for (auto& neighbours : adjacency)
     std::sort(neighbours.begin(), neighbours.end(), [](const Adjacent& x, const Adjacent& y) { return x.node < y.node; });
   const std::vector<double> depths = weighted_depths(adjacency);
-  tree.root = root.value_or(static_cast<int>(std::min_element(depths.begin(), depths.end()) - depths.begin()));
+  if (root) {
+    tree.root = *root;
+  } else {
+    tree.root = -1;
+    for (int i = 0; i < n; ++i)
+      if ((eligible_roots.empty() || eligible_roots[static_cast<std::size_t>(i)]) &&
+          (tree.root < 0 || depths[static_cast<std::size_t>(i)] < depths[static_cast<std::size_t>(tree.root)]))
+        tree.root = i;
+  }
   tree.weighted_depth = depths[static_cast<std::size_t>(tree.root)];
   // Breadth-first from the root: the order in which frames can be aligned.
   tree.depth.assign(static_cast<std::size_t>(n), -1);

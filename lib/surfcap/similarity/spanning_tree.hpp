@@ -30,10 +30,18 @@ struct SimilarityTree {
 double automatic_threshold(const Eigen::MatrixXd& costs);
 
 /// Builds the tree from a symmetric N×N cost matrix (the filtered dissimilarity; only the upper
-/// triangle is read after symmetrising). `root`: a given root node, else the optimal one.
-/// Ties are broken by node order, so the result is deterministic.
+/// triangle is read after symmetrising). `root`: a given root node, else the one of minimal
+/// weighted depth among `eligible_roots` (N flags; empty: every node). Ties are broken by node
+/// order, so the result is deterministic.
 SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root = std::nullopt,
-                               std::optional<double> threshold = std::nullopt);
+                               std::optional<double> threshold = std::nullopt,
+                               const std::vector<bool>& eligible_roots = {});
+
+/// The automatic template candidates: the frames whose stance (stance_width of their mesh) is in
+/// the widest `fraction` of all frames (at least one). An open pose — feet apart — makes a better
+/// template than a closed one: aligning legs together → apart lays one leg onto the other, the
+/// reverse does not (docs/align.md "Status"). Empty `stance`: no restriction (empty result).
+std::vector<bool> wide_stance_roots(const std::vector<double>& stance, double fraction = 0.25);
 
 /// Minimum spanning tree total cost of a complete graph (no pruning), for evaluation.
 double minimum_spanning_tree_cost(const Eigen::MatrixXd& costs);

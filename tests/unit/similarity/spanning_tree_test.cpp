@@ -3,6 +3,10 @@
 #include <cstring>
 #include <random>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+
+#include "surfcap/similarity/similarity_files.hpp"
 #include "surfcap/similarity/similarity_matrix.hpp"
 #include "surfcap/similarity/spanning_tree.hpp"
 
@@ -70,6 +74,55 @@ TEST(SpanningTree, RootMinimisesWeightedDepth) {
   for (int r = 0; r < 40; ++r) EXPECT_LE(chosen, weighted_depth(tree, 40, r) + 1e-9);
   const auto forced = similarity::similarity_tree(line_costs(x), 3);
   EXPECT_EQ(forced.root, 3);
+}
+
+TEST(SpanningTree, AutomaticRootIsTheShallowestOfTheEligibleFrames) {
+  // Frames on a line: unrestricted, the optimal root is central; restricted to the frames of the
+  // widest stance, it is the eligible frame of least weighted depth, which is not the global optimum.
+  std::vector<double> x(21);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i);
+  const auto free_tree = similarity::similarity_tree(line_costs(x));
+  EXPECT_EQ(free_tree.root, 10);
+  std::vector<double> stance(x.size(), 0.1);
+  stance[2] = 0.5;   // the widest, far from the centre
+  stance[7] = 0.45;  // nearer the centre
+  stance[15] = 0.3;  // farther than frame 7
+  const std::vector<bool> eligible = similarity::wide_stance_roots(stance, 0.1);  // the ceil(2.1) = 3 widest
+  ASSERT_EQ(eligible.size(), x.size());
+  EXPECT_TRUE(eligible[2] && eligible[7] && eligible[15]);
+  EXPECT_EQ(std::count(eligible.begin(), eligible.end(), true), 3);
+  const auto tree = similarity::similarity_tree(line_costs(x), std::nullopt, std::nullopt, eligible);
+  EXPECT_EQ(tree.root, 7);
+  EXPECT_NEAR(tree.weighted_depth, weighted_depth(tree, 21, 7), 1e-9);
+  EXPECT_GT(tree.weighted_depth, free_tree.weighted_depth);
+  // Ties at the limit are all kept; an empty stance list means no restriction.
+  const std::vector<bool> all = similarity::wide_stance_roots(std::vector<double>(5, 0.2), 0.25);
+  EXPECT_EQ(std::count(all.begin(), all.end(), true), 5);
+  EXPECT_TRUE(similarity::wide_stance_roots({}, 0.25).empty());
+  EXPECT_EQ(similarity::similarity_tree(line_costs(x), std::nullopt, std::nullopt, {}).root, 10);
+  // A given root wins over the eligibility.
+  EXPECT_EQ(similarity::similarity_tree(line_costs(x), 3, std::nullopt, eligible).root, 3);
+}
+
+TEST(SpanningTree, StanceWidthIsTheFeetSpreadOverTheHeightInAnyHeading) {
+  // A 1.75 m column (the body) standing on two feet 0.6 m apart: stance 0.6 / 1.75 whichever way the
+  // feet line points; feet together → only the feet's own width.
+  auto body = [](double apart, double heading) {
+    core::Mesh mesh;
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i <= 70; ++i) points.emplace_back(0.0, 0.1 + 1.65 * i / 70.0, 0.0);
+    for (int side : {-1, 1})
+      for (int i = 0; i <= 10; ++i)
+        for (int j = 0; j <= 4; ++j)
+          for (int k = 0; k <= 4; ++k) points.emplace_back(side * apart / 2 + 0.01 * (j - 2), 0.01 * i, 0.02 * (k - 2));
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    mesh.V.resize(static_cast<long>(points.size()), 3);
+    for (std::size_t k = 0; k < points.size(); ++k) mesh.V.row(static_cast<long>(k)) = (turn * points[k]).transpose();
+    return mesh;
+  };
+  EXPECT_NEAR(similarity::stance_width(body(0.6, 0.0)), (0.6 + 0.04) / 1.75, 1e-9);
+  EXPECT_NEAR(similarity::stance_width(body(0.6, 1.1)), (0.6 + 0.04) / 1.75, 1e-9);
+  EXPECT_LT(similarity::stance_width(body(0.0, 0.4)), 0.1 / 1.75);
 }
 
 TEST(SpanningTree, DisconnectedByPruningIsJoinedAndReported) {
