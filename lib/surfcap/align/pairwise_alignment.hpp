@@ -23,7 +23,7 @@ struct PairwiseOptions {
   int levels = 4;                   ///< patch levels, doubling the count each level
   int patch_icp_iterations = 6;
   int rotation_iterations = 3;      ///< rotation updates (solves) per level and per dense iteration
-  double patch_weight = 0.09;        ///< soft-constraint weight of a patch target (relative to L's diagonal)
+  double patch_weight = 0.09;       ///< soft-constraint weight of a patch target (relative to L's diagonal)
   double min_patch_inliers = 0.5;   ///< a patch fit is used if this fraction of its vertices found a match
   int dense_iterations = 4;
   double dense_weight = 0.3;        ///< weight of a dense closest-point target
