@@ -173,9 +173,7 @@ int main(int argc, char** argv) {
 
   auto* tree = cli.add_subcommand("tree", "Shape similarity tree (pruned minimum spanning tree)");
   tree->add_option("--out", args.out, "Database folder holding similarity/matrix.npy")->required();
-  tree->add_option("--root", args.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth among the widest-stance frames)");
-  tree->add_option("--root-candidates", args.root_candidates, "Automatic root: among this fraction of the frames with the widest stance (1: every frame)")
-      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
+  tools::add_root_options(tree, args.root, args.root_candidates);
   tree->add_option("--ground-truth", args.ground_truth,
                    "Ground-truth aligned database.json: report the tree's quality ratio");
 

@@ -31,6 +31,7 @@ struct RegisterCommands::State {
   bool surface_model = false;
   bool no_evaluation = false;
   bool edge_diagnostics = false;
+  bool truth_arrays = false;
   double failure_residual_mm = 4;
   int preview_frames = 4;
   double preview_scale_mm = 10;
@@ -99,10 +100,34 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_flag("--no-evaluation", no_evaluation, "Do not compare with ground_truth/ even if the capture has it");
   cmd->add_flag("--edge-diagnostics", state.edge_diagnostics,
                 "With ground truth: also align every child from its TRUE parent (each edge's own error)");
+  cmd->add_flag("--truth-arrays", state.truth_arrays,
+                "With ground truth: also write report/truth_errors.npy and report/truth_observed.npy (per vertex)");
   cmd->add_option("--preview-frames", preview_frames, "Frames in report/alignment.png (0: none)")
       ->check(CLI::Range(0, 8));
   cmd->add_option("--preview-scale-mm", preview_scale_mm, "Residual mapped to red in the preview (mm)")
       ->check(CLI::PositiveNumber);
+}
+
+/// Per node and template vertex: aligned − true position (float32 [nodes, n, 3], world metres) and
+/// whether a camera sees the true location (uint8 [nodes, n]); nodes in report order.
+void write_truth_arrays(const std::filesystem::path& folder, const align::TruthReference& truth,
+                        const align::Registration& registration, const align::TruthEvaluation& evaluation) {
+  const std::size_t nodes = registration.frames.size();
+  const auto n = static_cast<std::size_t>(registration.database.template_mesh.vertex_count());
+  std::vector<float> errors;
+  std::vector<std::uint8_t> observed;
+  errors.reserve(nodes * n * 3);
+  observed.reserve(nodes * n);
+  for (std::size_t node = 0; node < nodes; ++node) {
+    const auto& record = registration.frames[node];
+    const Eigen::MatrixXd error = registration.world_positions[node] - truth.positions(record.sequence, record.frame);
+    for (std::size_t v = 0; v < n; ++v) {
+      for (int k = 0; k < 3; ++k) errors.push_back(static_cast<float>(error(static_cast<Eigen::Index>(v), k)));
+      observed.push_back(evaluation.frames[node].observed[v] ? 1 : 0);
+    }
+  }
+  core::write_npy(folder / "truth_errors.npy", errors.data(), {nodes, n, 3});
+  core::write_npy(folder / "truth_observed.npy", observed.data(), {nodes, n});
 }
 
 /// Every child aligned again from its true parent: the error each edge introduces on its own,
@@ -192,9 +217,10 @@ void register_frames(const RegisterCommands::State& state, const core::ToolApp& 
     core::Json per_frame = core::Json::array();
     for (const auto& frame : evaluation.frames)
       per_frame.push_back({{"rms_m", frame.rms}, {"max_m", frame.max}, {"normal_rms_m", frame.normal_rms},
-                           {"tangential_rms_m", frame.tangential_rms}});
+                           {"tangential_rms_m", frame.tangential_rms}, {"observed_fraction", frame.observed_fraction}});
     if (state.edge_diagnostics) add_edge_diagnostics(capture, set, tree, options, truth, evaluation, per_frame, figures);
     figures["ground_truth"]["frames"] = per_frame;
+    if (state.truth_arrays) write_truth_arrays(out / "report", truth, registration, evaluation);
     if (state.preview_frames > 0) {
       // The frames worst against the truth, coloured by each vertex's true error.
       std::vector<long> order(evaluation.frames.size());
@@ -220,6 +246,9 @@ void register_frames(const RegisterCommands::State& state, const core::ToolApp& 
                  1000 * evaluation.normal_rms, 1000 * evaluation.tangential_rms,
                  figures["ground_truth"]["worst_frame"].get<std::string>(), 1000 * evaluation.worst_frame_rms,
                  100 * evaluation.worst_frame_rms / evaluation.height);
+    if (evaluation.observed_fraction > 0)
+      spdlog::info("  seen by a camera ({:.1f}% of the vertex-frames) {:.2f} mm RMS, unseen {:.2f} mm RMS",
+                   100 * evaluation.observed_fraction, 1000 * evaluation.observed_rms, 1000 * evaluation.unobserved_rms);
   }
   if (state.preview_frames > 0) {
     auto timer = report.time("preview");
@@ -275,6 +304,14 @@ void run_similarity_chain(const RegisterCommands::State& state, const core::Tool
 
 }  // namespace
 
+void add_root_options(CLI::App* command, std::string& root, double& root_candidates) {
+  command->add_option("--root", root,
+                      "Root frame as <sequence>:<frame> (default: minimal weighted depth among the widest-stance frames)");
+  command->add_option("--root-candidates", root_candidates,
+                      "Automatic root: among this fraction of the frames with the widest stance (1: every frame)")
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
+}
+
 RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::make_unique<State>()) {
   auto& cli = app.cli();
   State& s = *state_;
@@ -286,9 +323,7 @@ RegisterCommands::RegisterCommands(core::ToolApp& app) : app_(app), state_(std::
   s.run_cmd = cli.add_subcommand("run", "histograms → similarity → tree → register in one go");
   s.run_cmd->add_option("--capture", s.capture, "Capture folder (or its capture.json)")->required();
   s.run_cmd->add_option("--out", s.out, "Database folder to write")->required();
-  s.run_cmd->add_option("--root", s.root, "Root frame as <sequence>:<frame> (default: minimal weighted depth among the widest-stance frames)");
-  s.run_cmd->add_option("--root-candidates", s.root_candidates, "Automatic root: among this fraction of the frames with the widest stance (1: every frame)")
-      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
+  add_root_options(s.run_cmd, s.root, s.root_candidates);
   s.run_cmd->add_option("--voxel-size", s.histogram.voxel_size, "Volume sampling grid spacing (m)");
   s.run_cmd->add_option("--window", s.similarity.temporal_window, "Temporal filter half-width k (frames)")
       ->check(CLI::Range(0, 50));

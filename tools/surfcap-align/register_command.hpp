@@ -3,10 +3,14 @@
 // similarity tree, and the whole capture → database chain in one go.
 
 #include <memory>
+#include <string>
 
 #include "surfcap/core/cli.hpp"
 
 namespace surfcap::tools {
+
+/// --root and --root-candidates (the tree's root frame), shared by "tree" and "run".
+void add_root_options(CLI::App* command, std::string& root, double& root_candidates);
 
 class RegisterCommands {
  public:

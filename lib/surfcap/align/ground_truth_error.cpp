@@ -1,10 +1,13 @@
 #include "surfcap/align/ground_truth_error.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/npy.hpp"
+#include "surfcap/render/camera.hpp"
+#include "surfcap/render/rasterizer.hpp"
 
 namespace surfcap::align {
 
@@ -43,6 +46,7 @@ TruthReference::TruthReference(const core::Capture& capture, const core::Aligned
 
   // Regions (optional: the dance capture has none), split by side of the rest pose (x sign).
   regions_ = Eigen::VectorXi::Constant(n, -1);
+  downward_.assign(static_cast<std::size_t>(n), false);
   if (truth.contains("regions") && truth.contains("region_names") && truth.contains("template_rest")) {
     const auto region_path = truth_dir / truth.at("regions").get<std::string>();
     const core::NpyArray regions = core::read_npy(region_path, core::DType::int32, {truth_.template_mesh.vertex_count()});
@@ -60,21 +64,27 @@ TruthReference::TruthReference(const core::Capture& capture, const core::Aligned
       const int region = regions.data<std::int32_t>()[corner];
       if (region < 0 || region >= static_cast<int>(names.size()) || corner >= rest.vertex_count()) continue;
       regions_(v) = 2 * region + (rest.V(corner, 0) >= 0 ? 1 : 0);
+      const auto rest_corner = [&](int k) -> Eigen::Vector3d { return rest.V.row(true_F(f, k)).transpose(); };
+      const Eigen::Vector3d normal = (rest_corner(1) - rest_corner(0)).cross(rest_corner(2) - rest_corner(0));
+      downward_[static_cast<std::size_t>(v)] = normal.y() < -0.5 * normal.norm();
     }
   }
   const Eigen::MatrixXd root = positions(aligned.root_sequence, aligned.root_frame);
   height_ = root.col(1).maxCoeff() - root.col(1).minCoeff();
 }
 
-Eigen::MatrixXd TruthReference::positions(const std::string& sequence, int frame) const {
+Eigen::MatrixXd TruthReference::true_vertices(const std::string& sequence, int frame) const {
   const int s = truth_.sequence_index(sequence);
   const int c = capture_.sequence_index(sequence);
   const int offset = c < 0 ? -1 : frame - capture_.sequences[static_cast<std::size_t>(c)].first;
   if (s < 0 || offset < 0 || offset >= truth_.sequences[static_cast<std::size_t>(s)].frame_count())
     throw core::bad_input(truth_path_, "has no true frame " + std::to_string(frame) + " of '" + sequence + "'");
   const auto& seq = truth_.sequences[static_cast<std::size_t>(s)];
-  const Eigen::MatrixXd X =
-      core::to_world(seq.frames[static_cast<std::size_t>(offset)], seq.root_motion[static_cast<std::size_t>(offset)]);
+  return core::to_world(seq.frames[static_cast<std::size_t>(offset)], seq.root_motion[static_cast<std::size_t>(offset)]);
+}
+
+Eigen::MatrixXd TruthReference::positions(const std::string& sequence, int frame) const {
+  const Eigen::MatrixXd X = true_vertices(sequence, frame);
   const Eigen::MatrixXi& F = truth_.template_mesh.F;
   const long n = barycentric_.rows();
   Eigen::MatrixXd points(n, 3);
@@ -84,6 +94,42 @@ Eigen::MatrixXd TruthReference::positions(const std::string& sequence, int frame
                     barycentric_(v, 2) * X.row(F(f, 2));
   }
   return points;
+}
+
+std::vector<bool> TruthReference::observed(const std::string& sequence, int frame) const {
+  const long n = barycentric_.rows();
+  std::vector<bool> seen(static_cast<std::size_t>(n), false);
+  if (capture_.cameras.empty()) return seen;
+  core::Mesh surface;
+  surface.V = true_vertices(sequence, frame);
+  surface.F = truth_.template_mesh.F;
+  const Eigen::MatrixXd points = positions(sequence, frame);
+  const double tolerance = 0.005 * height_;
+  render::RenderOptions options;
+  options.smooth_normals = false;
+  for (const auto& stored : capture_.cameras) {
+    const render::Camera camera = render::from_capture_camera(stored);
+    const std::vector<float> depth = render::render_mesh(surface, camera, options).depth;
+    for (long v = 0; v < n; ++v) {
+      if (seen[static_cast<std::size_t>(v)]) continue;
+      const Eigen::Vector3d x = points.row(v).transpose();
+      const auto corner = [&](int k) -> Eigen::Vector3d {
+        return surface.V.row(surface.F(faces_[static_cast<std::size_t>(v)], k)).transpose();
+      };
+      const Eigen::Vector3d normal = (corner(1) - corner(0)).cross(corner(2) - corner(0));
+      const Eigen::Vector3d towards = camera.centre() - x;
+      if (!(normal.dot(towards) > 0.1 * normal.norm() * towards.norm())) continue;
+      const double z = camera.to_camera(x).z();
+      if (z <= 0) continue;
+      const Eigen::Vector2d u = camera.project(x);
+      const long px = std::lround(u.x()), py = std::lround(u.y());
+      if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
+      const float visible =
+          depth[static_cast<std::size_t>(py) * static_cast<std::size_t>(camera.width) + static_cast<std::size_t>(px)];
+      if (z <= visible + tolerance) seen[static_cast<std::size_t>(v)] = true;
+    }
+  }
+  return seen;
 }
 
 TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Registration& registration) {
@@ -96,6 +142,15 @@ TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Regist
   long count = 0;
   std::map<int, std::pair<double, long>> by_depth;
   std::map<int, std::pair<double, long>> by_region;
+  std::map<int, std::pair<double, long>> by_region_down;
+  std::map<int, long> region_vertices, region_down_vertices;
+  for (long v = 0; v < truth.regions().size(); ++v) {
+    if (truth.regions()(v) < 0) continue;
+    ++region_vertices[truth.regions()(v)];
+    if (truth.downward()[static_cast<std::size_t>(v)]) ++region_down_vertices[truth.regions()(v)];
+  }
+  double observed_sum = 0, unobserved_sum = 0;
+  long observed_count = 0;
   for (long node = 0; node < nodes; ++node) {
     const auto& record = registration.frames[static_cast<std::size_t>(node)];
     const Eigen::MatrixXd expected = truth.positions(record.sequence, record.frame);
@@ -109,6 +164,19 @@ TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Regist
     frame.max = std::sqrt(squared.maxCoeff());
     frame.normal_rms = std::sqrt(along.squaredNorm() / static_cast<double>(n));
     frame.tangential_rms = std::sqrt(std::max(0.0, frame.rms * frame.rms - frame.normal_rms * frame.normal_rms));
+    frame.observed = truth.observed(record.sequence, record.frame);
+    const std::vector<bool>& observed = frame.observed;
+    long seen = 0;
+    for (long v = 0; v < n; ++v) {
+      if (observed[static_cast<std::size_t>(v)]) {
+        observed_sum += squared(v);
+        ++seen;
+      } else {
+        unobserved_sum += squared(v);
+      }
+    }
+    observed_count += seen;
+    frame.observed_fraction = static_cast<double>(seen) / static_cast<double>(std::max<long>(1, n));
     total += squared.sum();
     total_normal += along.squaredNorm();
     count += n;
@@ -120,6 +188,10 @@ TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Regist
       auto& region = by_region[truth.regions()(v)];
       region.first += squared(v);
       ++region.second;
+      if (!truth.downward()[static_cast<std::size_t>(v)]) continue;
+      auto& down = by_region_down[truth.regions()(v)];
+      down.first += squared(v);
+      ++down.second;
     }
     if (frame.rms > evaluation.worst_frame_rms) {
       evaluation.worst_frame_rms = frame.rms;
@@ -129,11 +201,24 @@ TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Regist
   evaluation.rms = std::sqrt(total / static_cast<double>(std::max<long>(1, count)));
   evaluation.normal_rms = std::sqrt(total_normal / static_cast<double>(std::max<long>(1, count)));
   evaluation.tangential_rms = std::sqrt(std::max(0.0, evaluation.rms * evaluation.rms - evaluation.normal_rms * evaluation.normal_rms));
+  evaluation.observed_fraction = static_cast<double>(observed_count) / static_cast<double>(std::max<long>(1, count));
+  evaluation.observed_rms = std::sqrt(observed_sum / static_cast<double>(std::max<long>(1, observed_count)));
+  evaluation.unobserved_rms = std::sqrt(unobserved_sum / static_cast<double>(std::max<long>(1, count - observed_count)));
   for (const auto& [depth, sums] : by_depth)
     evaluation.rms_by_depth[depth] = std::sqrt(sums.first / static_cast<double>(sums.second));
-  for (const auto& [region, sums] : by_region)
-    evaluation.rms_by_region[truth.region_names()[static_cast<std::size_t>(region)]] =
-        std::sqrt(sums.first / static_cast<double>(sums.second));
+  const double all_squared = std::max(total, 1e-300);
+  for (const auto& [region, sums] : by_region) {
+    const std::string& name = truth.region_names()[static_cast<std::size_t>(region)];
+    evaluation.rms_by_region[name] = std::sqrt(sums.first / static_cast<double>(sums.second));
+    evaluation.squared_share_by_region[name] = sums.first / all_squared;
+  }
+  for (const auto& [region, sums] : by_region_down) {
+    const std::string& name = truth.region_names()[static_cast<std::size_t>(region)];
+    evaluation.downward_rms_by_region[name] = std::sqrt(sums.first / static_cast<double>(sums.second));
+    evaluation.downward_squared_share_by_region[name] = sums.first / all_squared;
+    evaluation.downward_fraction_by_region[name] =
+        static_cast<double>(region_down_vertices[region]) / static_cast<double>(region_vertices[region]);
+  }
   return evaluation;
 }
 
@@ -146,8 +231,11 @@ core::Json TruthEvaluation::to_json(const Registration& registration) const {
   core::Json depth = core::Json::array();
   for (const auto& [d, rms_at] : rms_by_depth)
     depth.push_back({{"depth", d}, {"rms_m", rms_at}, {"rms_percent_height", rms_at * percent}});
-  core::Json regions = core::Json::object();
-  for (const auto& [name, rms_at] : rms_by_region) regions[name] = rms_at;
+  const auto to_object = [](const std::map<std::string, double>& values) {
+    core::Json object = core::Json::object();
+    for (const auto& [name, value] : values) object[name] = value;
+    return object;
+  };
   const auto& worst = registration.frames[static_cast<std::size_t>(worst_node)];
   return {{"height_m", height},
           {"rms_m", rms},
@@ -157,8 +245,17 @@ core::Json TruthEvaluation::to_json(const Registration& registration) const {
           {"worst_frame", worst.sequence + ":" + std::to_string(worst.frame)},
           {"worst_frame_rms_m", worst_frame_rms},
           {"worst_frame_rms_percent_height", worst_frame_rms * percent},
+          {"observed_fraction", observed_fraction},
+          {"observed_rms_m", observed_rms},
+          {"observed_rms_percent_height", observed_rms * percent},
+          {"unobserved_rms_m", unobserved_rms},
+          {"unobserved_rms_percent_height", unobserved_rms * percent},
           {"by_depth", depth},
-          {"by_region_rms_m", regions}};
+          {"by_region_rms_m", to_object(rms_by_region)},
+          {"by_region_squared_share", to_object(squared_share_by_region)},
+          {"by_region_downward_rms_m", to_object(downward_rms_by_region)},
+          {"by_region_downward_squared_share", to_object(downward_squared_share_by_region)},
+          {"by_region_downward_fraction", to_object(downward_fraction_by_region)}};
 }
 
 }  // namespace surfcap::align

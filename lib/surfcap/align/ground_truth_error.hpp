@@ -26,18 +26,31 @@ class TruthReference {
   TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned);
   /// n×3 world positions of the template vertices in `sequence`:`frame` (frame number).
   Eigen::MatrixXd positions(const std::string& sequence, int frame) const;
+  /// Per template vertex: is its true location seen by at least one of the capture's cameras in
+  /// `sequence`:`frame` — the true surface faces the camera (cos > 0.1) and is not occluded by the
+  /// true surface itself (depth test against its rendering, tolerance 0.5 % of the height)? All
+  /// false when the capture has no cameras.
+  std::vector<bool> observed(const std::string& sequence, int frame) const;
   double height() const { return height_; }  ///< the true root frame's y extent (m)
   /// Texture region per template vertex (regions.npy of the true template; −1 when absent).
   const Eigen::VectorXi& regions() const { return regions_; }
   const std::vector<std::string>& region_names() const { return region_names_; }
+  /// Per template vertex: does the true surface face downwards at rest (normal y < −0.5)? The
+  /// undersides — of the skirt (its hem, where the synth's truth stretches most), the chin, the
+  /// soles — reported apart.
+  const std::vector<bool>& downward() const { return downward_; }
 
  private:
+  /// The true surface of `sequence`:`frame` in world coordinates (vertices of truth_.template_mesh).
+  Eigen::MatrixXd true_vertices(const std::string& sequence, int frame) const;
+
   const core::Capture& capture_;
   std::filesystem::path truth_path_;
   core::AlignedDatabase truth_;
   std::vector<int> faces_;
   Eigen::MatrixXd barycentric_;
   Eigen::VectorXi regions_;
+  std::vector<bool> downward_;
   std::vector<std::string> region_names_;
   double height_ = 0;
 };
@@ -47,6 +60,8 @@ struct FrameTruthError {
   double max = 0;
   double normal_rms = 0;      ///< component along the true surface normal
   double tangential_rms = 0;  ///< component in the true tangent plane (sliding)
+  double observed_fraction = 0;  ///< of the template vertices whose true location a camera sees
+  std::vector<bool> observed;    ///< per template vertex (TruthReference::observed)
 };
 
 struct TruthEvaluation {
@@ -55,9 +70,18 @@ struct TruthEvaluation {
   double normal_rms = 0, tangential_rms = 0;
   double worst_frame_rms = 0;
   long worst_node = 0;
+  /// Split by whether a camera of the frame sees the vertex's true location (TruthReference::
+  /// observed): the unobserved part (under the skirt, between the legs, in armpits) is constrained
+  /// by the deformation prior alone. Zero fraction when the capture has no cameras.
+  double observed_fraction = 0, observed_rms = 0, unobserved_rms = 0;
   std::vector<FrameTruthError> frames;  ///< per node
   std::map<int, double> rms_by_depth;   ///< tree depth → RMS over its frames and vertices
   std::map<std::string, double> rms_by_region;  ///< texture region → RMS over all frames
+  /// texture region → the region's share of Σ squared error (all frames)
+  std::map<std::string, double> squared_share_by_region;
+  /// The same two over the region's downward-facing vertices (TruthReference::downward), and the
+  /// fraction of the region's vertices that face downwards.
+  std::map<std::string, double> downward_rms_by_region, downward_squared_share_by_region, downward_fraction_by_region;
   core::Json to_json(const Registration& registration) const;  ///< figures in metres and % of height
 };
 
