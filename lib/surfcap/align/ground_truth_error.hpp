@@ -71,8 +71,9 @@ struct TruthEvaluation {
   double worst_frame_rms = 0;
   long worst_node = 0;
   /// Split by whether a camera of the frame sees the vertex's true location (TruthReference::
-  /// observed): the unobserved part (under the skirt, between the legs, in armpits) is constrained
-  /// by the deformation prior alone. Zero fraction when the capture has no cameras.
+  /// observed): the unobserved part (under the skirt, between the legs, in armpits) has no image
+  /// evidence (SIFT, flow), only the reconstruction's geometry and the deformation prior. Zero
+  /// fraction when the capture has no cameras.
   double observed_fraction = 0, observed_rms = 0, unobserved_rms = 0;
   std::vector<FrameTruthError> frames;  ///< per node
   std::map<int, double> rms_by_depth;   ///< tree depth → RMS over its frames and vertices
