@@ -21,8 +21,10 @@
 #include <map>
 #include <mutex>
 #include <tuple>
+#include <vector>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/geometry/mesh_topology.hpp"
 
 namespace surfcap::synth {
 namespace {
@@ -132,6 +134,50 @@ Region region_of(const Skeleton& sk, int bone, const Eigen::Vector3d& p, double 
     case ankle_l: case ankle_r: case toe_l: case toe_r: return Region::shoes;
     default: return Region::shirt;
   }
+}
+
+/// Width of the garment weight's transition from the skirt to the legs (m, at 1.75 m). The weight
+/// as first defined steps from 0 to 1 within ~2.5 cm, about one template edge at 3,000 vertices:
+/// faces spanning the step (one corner on the skirt, another on a thigh) stretched up to 183× when
+/// the skirt flared, and adjacent faces folded over each other in 126 of demo's 144 frames, all at
+/// the skirt/trousers junction — a ground truth no surface can follow (session 8).
+constexpr double kGarmentTransition = 0.05;
+
+/// Diffuses `values` over the mesh's edge graph (lazy averaging with the one-ring mean), with as
+/// many steps as it takes a random walk to spread about `width` at the mesh's mean edge length, so
+/// the result is about the same at any vertex count. Follows the surface, unlike a Euclidean
+/// blur, which would pull a hand hanging beside the skirt along with it.
+Eigen::VectorXd smooth_over_surface(const core::Mesh& mesh, const Eigen::VectorXd& values, double width) {
+  const long n = mesh.vertex_count();
+  const auto adjacency = geometry::vertex_adjacency(mesh.F, n);
+  double edge_sum = 0;
+  long edge_count = 0;
+  for (long v = 0; v < n; ++v)
+    for (int u : adjacency[static_cast<std::size_t>(v)]) {
+      if (u <= v) continue;
+      edge_sum += (mesh.V.row(u) - mesh.V.row(v)).norm();
+      ++edge_count;
+    }
+  if (edge_count == 0) return values;
+  const double edge = edge_sum / static_cast<double>(edge_count);
+  // A lazy step moves by half an edge length in variance per step: σ² ≈ steps · edge² / 2.
+  const int steps = std::max(1, static_cast<int>(std::lround(2.0 * (width / edge) * (width / edge))));
+  Eigen::VectorXd current = values;
+  Eigen::VectorXd next(n);
+  for (int step = 0; step < steps; ++step) {
+    for (long v = 0; v < n; ++v) {
+      const auto& ring = adjacency[static_cast<std::size_t>(v)];
+      if (ring.empty()) {
+        next[v] = current[v];
+        continue;
+      }
+      double mean = 0;
+      for (int u : ring) mean += current[u];
+      next[v] = 0.5 * current[v] + 0.5 * mean / static_cast<double>(ring.size());
+    }
+    current.swap(next);
+  }
+  return current;
 }
 
 /// Meshing costs seconds; an Actor is built more than once per process (tests, presets).
@@ -257,17 +303,25 @@ Body make_body(const BodyOptions& options) {
   body.regions.resize(static_cast<std::size_t>(n));
   const auto& sk = body.skeleton;
   const double skirt_length = body.skirt.waist_height - body.skirt.hem_height;
+  std::vector<Eigen::RowVectorXd> w_body(static_cast<std::size_t>(n));
+  Eigen::VectorXd garment(n);
   for (long v = 0; v < n; ++v) {
     const Eigen::Vector3d p = body.rest.V.row(v).transpose();
-    const Eigen::RowVectorXd w_body = bone_weights(sk, p);
+    w_body[static_cast<std::size_t>(v)] = bone_weights(sk, p);
     // On the skirt where its own surface is closer than any limb's by ~1 cm.
     double limbs = 1e9;
     for (int j = hip_l; j < joint_count; ++j) limbs = std::min(limbs, distance_to_segment(p, sk.rest[j], sk.bone_end[j]));
     const double on_skirt = std::abs(skirt_distance(body.skirt, 1.0, p));
     const double skirt_margin = (limbs - 0.07 * s) - on_skirt;
-    const double depth = std::clamp((body.skirt.waist_height - p.y()) / skirt_length, 0.0, 1.0);
-    const double g = smoothstep(-0.005, 0.02, skirt_margin) * smoothstep(0.0, 0.2, depth) *
-                     (1 - smoothstep(0.008 * s, 0.025 * s, on_skirt));
+    body.garment_depth[v] = std::clamp((body.skirt.waist_height - p.y()) / skirt_length, 0.0, 1.0);
+    garment[v] = smoothstep(-0.005, 0.02, skirt_margin) * smoothstep(0.0, 0.2, body.garment_depth[v]) *
+                 (1 - smoothstep(0.008 * s, 0.025 * s, on_skirt));
+  }
+  body.garment_weight = smooth_over_surface(body.rest, garment, kGarmentTransition * s);
+  for (long v = 0; v < n; ++v) {
+    const Eigen::Vector3d p = body.rest.V.row(v).transpose();
+    const double g = body.garment_weight[v];
+    const double depth = body.garment_depth[v];
     // The skirt hangs from the pelvis; towards the hem it partly follows the thigh on its side.
     Eigen::RowVectorXd w_skirt = Eigen::RowVectorXd::Zero(sk.size());
     const double follow = 0.45 * depth;
@@ -275,11 +329,10 @@ Body make_body(const BodyOptions& options) {
     w_skirt[pelvis] = 1 - follow;
     w_skirt[hip_l] = follow * left;
     w_skirt[hip_r] = follow * (1 - left);
-    body.skin_weights.row(v) = (1 - g) * w_body + g * w_skirt;
-    body.garment_weight[v] = g;
-    body.garment_depth[v] = depth;
+    const auto& wb = w_body[static_cast<std::size_t>(v)];
+    body.skin_weights.row(v) = (1 - g) * wb + g * w_skirt;
     int bone;
-    w_body.maxCoeff(&bone);
+    wb.maxCoeff(&bone);
     body.regions[static_cast<std::size_t>(v)] = region_of(sk, bone, p, g);
   }
   return body;

@@ -34,6 +34,19 @@ void add_bulges(const Body& body, const Eigen::MatrixXd& normals, const Pose& po
   }
 }
 
+/// How far towards the skirt's side wall a vertex sits (its elliptical radius over the cone's at
+/// its rest height, at most 1). The flare turns each vertex outwards about a horizontal axis through
+/// the waist; without this factor the underside between the legs, where the outward direction turns
+/// round the axis within a few centimetres, was torn apart (faces stretched over 100×). With it
+/// the underside opens like a membrane, in proportion to the distance from the axis.
+double membrane_fraction(const Body& body, long v) {
+  const auto& k = body.skirt;
+  const Eigen::Vector3d p = body.rest.V.row(v).transpose();
+  const double t = std::clamp((k.waist_height - p.y()) / (k.waist_height - k.hem_height), 0.0, 1.0);
+  const double wall = k.waist_radius + t * (k.hem_radius - k.waist_radius);
+  return std::min(1.0, std::hypot(p.x(), p.z() / k.depth_scale) / wall);
+}
+
 /// The skirt rotates about its waist: more towards the hem (so it bends), by the garment state.
 void add_skirt_motion(const Body& body, const GarmentState& g, Eigen::MatrixXd& V) {
   const Eigen::Vector3d hinge(0, body.skirt.waist_height, 0);
@@ -45,7 +58,7 @@ void add_skirt_motion(const Body& body, const GarmentState& g, Eigen::MatrixXd& 
     Eigen::Vector3d radial(offset.x(), 0, offset.z());
     radial = radial.norm() > 1e-9 ? Eigen::Vector3d(radial.normalized()) : Eigen::Vector3d::UnitX();
     const Eigen::Vector3d flare_axis = radial.cross(Eigen::Vector3d::UnitY());
-    offset = Eigen::AngleAxisd(amount * g.flare, flare_axis) * offset;
+    offset = Eigen::AngleAxisd(amount * g.flare * membrane_fraction(body, v), flare_axis) * offset;
     offset = Eigen::AngleAxisd(amount * g.twist, Eigen::Vector3d::UnitY()) * offset;
     const Eigen::Vector3d swing(g.swing_back, 0, g.swing_side);
     if (swing.norm() > 1e-12) offset = Eigen::AngleAxisd(amount * swing.norm(), swing.normalized()) * offset;

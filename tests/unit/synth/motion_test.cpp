@@ -1,7 +1,10 @@
 // The actor, its motions and the garment, against truths that cannot drift.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 #include <memory>
 #include <vector>
 
@@ -125,6 +128,49 @@ TEST(Garment, SkirtLagsAndTrailsWithSpeed) {
   const synth::MotionSpec jump = synth::preset_scene("demo").sequences[3];
   EXPECT_NEAR(synth::garment_at(skeleton, jump, scene.fps, 0.0).flare, 0.0, 1e-6);
   EXPECT_GT(synth::garment_at(skeleton, jump, scene.fps, 0.5 * jump.duration(scene.fps) + 0.2).flare, 0.1);
+}
+
+// The ground truth must stay a surface something could follow. At the synth's largest flare the
+// skirt's underside (the cap of the solid cone between the hem and the thighs) used to tear
+// between the legs, where the outward direction turns round the skirt's axis, and at the step of
+// the garment weight from skirt to trousers: at rest pose tiny's worst face grew 12.3× (7.0× with the membrane
+// fraction alone; demo's jump_low:29 183×). Now it opens like a membrane: 4.3×. A few pairs at the
+// hem's rounded rim still fold (5 on tiny, as before), so they are reported, not bounded.
+TEST(Garment, FullyFlaredSkirtStretchesWithoutTearing) {
+  const auto& actor = tiny_actor();
+  const auto& body = actor.body;
+  synth::GarmentState flared;
+  flared.flare = 0.45;  // garment_at's clamp
+  const Eigen::MatrixXd V = synth::deform_body(body, actor.rest_normals, synth::Pose(), flared);
+  const Eigen::MatrixXi& F = body.rest.F;
+  auto normals = [&](const Eigen::MatrixXd& X, Eigen::VectorXd& area) {
+    Eigen::MatrixXd N(F.rows(), 3);
+    area.resize(F.rows());
+    for (long f = 0; f < F.rows(); ++f) {
+      const Eigen::Vector3d a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      area[f] = 0.5 * n.norm();
+      N.row(f) = n.normalized().transpose();
+    }
+    return N;
+  };
+  Eigen::VectorXd rest_area, area;
+  const Eigen::MatrixXd N0 = normals(body.rest.V, rest_area), N = normals(V, area);
+  const double stretch = (area.array() / rest_area.array()).maxCoeff();
+  std::map<std::pair<int, int>, long> first_face;
+  long folded = 0;
+  for (long f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto edge = std::minmax(F(f, k), F(f, (k + 1) % 3));
+      const auto [it, inserted] = first_face.emplace(edge, f);
+      if (inserted) continue;
+      const long g = it->second;
+      if (N0.row(f).dot(N0.row(g)) > 0.5 && N.row(f).dot(N.row(g)) < 0) ++folded;
+    }
+  RecordProperty("max_face_stretch", std::to_string(stretch));
+  RecordProperty("folded_pairs", std::to_string(folded));
+  std::printf("fully flared skirt: worst face area x %.1f, folded adjacent pairs %ld\n", stretch, folded);
+  EXPECT_LT(stretch, 6.0);
 }
 
 // The blending issue relies on this: halfway between walk and run, averaging vertex positions
