@@ -4,12 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <utility>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/mesh.hpp"
 #include "surfcap/synth/capture.hpp"
 #include "surfcap/synth/deformation.hpp"
 #include "test_support.hpp"
@@ -133,9 +134,9 @@ TEST(Garment, SkirtLagsAndTrailsWithSpeed) {
 // The ground truth must stay a surface something could follow. At the synth's largest flare the
 // skirt's underside (the cap of the solid cone between the hem and the thighs) used to tear
 // between the legs, where the outward direction turns round the skirt's axis, and at the step of
-// the garment weight from skirt to trousers: at rest pose tiny's worst face grew 12.3× (7.0× with the membrane
-// fraction alone; demo's jump_low:29 183×). Now it opens like a membrane: 4.3×. A few pairs at the
-// hem's rounded rim still fold (5 on tiny, as before), so they are reported, not bounded.
+// the garment weight from skirt to trousers: at rest pose tiny's worst face grew 12.3× (7.0× with
+// the membrane fraction alone; demo's jump_low:29 183×). Now it opens like a membrane: 4.3×. A few
+// pairs at the hem's rounded rim still fold (5 on tiny, as before): reported, not bounded.
 TEST(Garment, FullyFlaredSkirtStretchesWithoutTearing) {
   const auto& actor = tiny_actor();
   const auto& body = actor.body;
@@ -143,20 +144,16 @@ TEST(Garment, FullyFlaredSkirtStretchesWithoutTearing) {
   flared.flare = 0.45;  // garment_at's clamp
   const Eigen::MatrixXd V = synth::deform_body(body, actor.rest_normals, synth::Pose(), flared);
   const Eigen::MatrixXi& F = body.rest.F;
-  auto normals = [&](const Eigen::MatrixXd& X, Eigen::VectorXd& area) {
+  auto normals = [&](const Eigen::MatrixXd& X) {
     Eigen::MatrixXd N(F.rows(), 3);
-    area.resize(F.rows());
     for (long f = 0; f < F.rows(); ++f) {
       const Eigen::Vector3d a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
-      const Eigen::Vector3d n = (b - a).cross(c - a);
-      area[f] = 0.5 * n.norm();
-      N.row(f) = n.normalized().transpose();
+      N.row(f) = (b - a).cross(c - a).normalized().transpose();
     }
     return N;
   };
-  Eigen::VectorXd rest_area, area;
-  const Eigen::MatrixXd N0 = normals(body.rest.V, rest_area), N = normals(V, area);
-  const double stretch = (area.array() / rest_area.array()).maxCoeff();
+  const Eigen::MatrixXd N0 = normals(body.rest.V), N = normals(V);
+  const double stretch = (core::face_areas(V, F).array() / core::face_areas(body.rest.V, F).array()).maxCoeff();
   std::map<std::pair<int, int>, long> first_face;
   long folded = 0;
   for (long f = 0; f < F.rows(); ++f)
