@@ -83,10 +83,27 @@ perl -MJSON::PP -e '
 # Deterministic: registering again on one thread gives byte-identical arrays.
 mkdir -p "$work/db1/similarity"
 cp "$work/db/similarity/"{histograms.npy,histograms.json,matrix.npy,tree.json} "$work/db1/similarity/"
-"$align" register --out "$work/db1" --capture "$work/capture" --threads 1 --preview-frames 0 --truth-arrays --log-level warn
+# With --edge-diagnostics (the edges aligned again from their true parents) on top; the database
+# it writes is the tree's, so the comparison below still holds.
+"$align" register --out "$work/db1" --capture "$work/capture" --threads 1 --preview-frames 0 --truth-arrays \
+  --edge-diagnostics --log-level warn
 n=$(perl -ne 'print $1 if /^element vertex (\d+)/' "$work/db1/template.ply")
 head -c 128 "$work/db1/report/truth_errors.npy" | grep -aq "'shape': (92, $n, 3)" || { echo "truth_errors.npy shape"; exit 1; }
 head -c 128 "$work/db1/report/truth_observed.npy" | grep -aq "'shape': (92, $n)" || { echo "truth_observed.npy shape"; exit 1; }
+head -c 128 "$work/db1/report/edge_truth_errors.npy" | grep -aq "'shape': (92, $n, 3)" || { echo "edge_truth_errors.npy shape"; exit 1; }
+# The arrays hold the errors the report sums up: their RMS is the report's rms_m / edge_rms_m.
+perl -MJSON::PP -e '
+  sub rms { open(my $f, "<:raw", $_[0]) or die; local $/; my $b = <$f>;
+            my $h = unpack("v", substr($b, 8, 2)); my @e = unpack("f<*", substr($b, 10 + $h));
+            my $s = 0; $s += $_ * $_ for @e; return sqrt($s / (@e / 3)); }
+  local $/; open(my $f, "<", "$ARGV[0]/alignment.json") or die; my $g = decode_json(<$f>)->{ground_truth};
+  for (["truth_errors", $g->{rms_m}], ["edge_truth_errors", $g->{edge_rms_m}]) {
+    my ($name, $want) = @$_; my $got = rms("$ARGV[0]/$name.npy");
+    printf "%s.npy RMS %.3f mm (report %.3f mm)\n", $name, 1000 * $got, 1000 * $want;
+    die "$name.npy does not hold the report'"'"'s errors\n" if abs($got - $want) > 1e-4 * $want;
+  }
+  die "edges from the true parents no better than accumulated\n" unless $g->{edge_rms_m} < $g->{rms_m};
+' "$work/db1/report"
 for f in sequences/walk.npy sequences/walk.root.npy sequences/run.npy sequences/jump_high.npy template.ply; do
   cmp "$work/db/$f" "$work/db1/$f" || { echo "$f differs between thread counts"; exit 1; }
 done

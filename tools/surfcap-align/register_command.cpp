@@ -101,7 +101,8 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_flag("--edge-diagnostics", state.edge_diagnostics,
                 "With ground truth: also align every child from its TRUE parent (each edge's own error)");
   cmd->add_flag("--truth-arrays", state.truth_arrays,
-                "With ground truth: also write report/truth_errors.npy and report/truth_observed.npy (per vertex)");
+                "With ground truth: also write report/truth_errors.npy and report/truth_observed.npy (per vertex; "
+                "with --edge-diagnostics also report/edge_truth_errors.npy)");
   cmd->add_option("--preview-frames", preview_frames, "Frames in report/alignment.png (0: none)")
       ->check(CLI::Range(0, 8));
   cmd->add_option("--preview-scale-mm", preview_scale_mm, "Residual mapped to red in the preview (mm)")
@@ -110,23 +111,31 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
 
 /// Per node and template vertex: aligned − true position (float32 [nodes, n, 3], world metres) and
 /// whether a camera sees the true location (uint8 [nodes, n]); nodes in report order.
+/// Per template vertex, aligned − true world position of every node: float32 [nodes, n, 3].
+void write_truth_errors(const std::filesystem::path& path, const align::TruthReference& truth,
+                        const align::Registration& registration) {
+  const std::size_t nodes = registration.frames.size();
+  const auto n = static_cast<std::size_t>(registration.database.template_mesh.vertex_count());
+  std::vector<float> errors;
+  errors.reserve(nodes * n * 3);
+  for (std::size_t node = 0; node < nodes; ++node) {
+    const auto& record = registration.frames[node];
+    const Eigen::MatrixXd error = registration.world_positions[node] - truth.positions(record.sequence, record.frame);
+    for (std::size_t v = 0; v < n; ++v)
+      for (int k = 0; k < 3; ++k) errors.push_back(static_cast<float>(error(static_cast<Eigen::Index>(v), k)));
+  }
+  core::write_npy(path, errors.data(), {nodes, n, 3});
+}
+
 void write_truth_arrays(const std::filesystem::path& folder, const align::TruthReference& truth,
                         const align::Registration& registration, const align::TruthEvaluation& evaluation) {
   const std::size_t nodes = registration.frames.size();
   const auto n = static_cast<std::size_t>(registration.database.template_mesh.vertex_count());
-  std::vector<float> errors;
+  write_truth_errors(folder / "truth_errors.npy", truth, registration);
   std::vector<std::uint8_t> observed;
-  errors.reserve(nodes * n * 3);
   observed.reserve(nodes * n);
-  for (std::size_t node = 0; node < nodes; ++node) {
-    const auto& record = registration.frames[node];
-    const Eigen::MatrixXd error = registration.world_positions[node] - truth.positions(record.sequence, record.frame);
-    for (std::size_t v = 0; v < n; ++v) {
-      for (int k = 0; k < 3; ++k) errors.push_back(static_cast<float>(error(static_cast<Eigen::Index>(v), k)));
-      observed.push_back(evaluation.frames[node].observed[v] ? 1 : 0);
-    }
-  }
-  core::write_npy(folder / "truth_errors.npy", errors.data(), {nodes, n, 3});
+  for (std::size_t node = 0; node < nodes; ++node)
+    for (std::size_t v = 0; v < n; ++v) observed.push_back(evaluation.frames[node].observed[v] ? 1 : 0);
   core::write_npy(folder / "truth_observed.npy", observed.data(), {nodes, n});
 }
 
@@ -135,7 +144,7 @@ void write_truth_arrays(const std::filesystem::path& folder, const align::TruthR
 void add_edge_diagnostics(const core::Capture& capture, const similarity::HistogramSet& set,
                           const align::AlignmentTree& tree, align::RegisterOptions options,
                           const align::TruthReference& truth, const align::TruthEvaluation& accumulated,
-                          core::Json& per_frame, core::Json& figures) {
+                          core::Json& per_frame, core::Json& figures, const std::filesystem::path& arrays) {
   const std::vector<std::string>& labels = tree.nodes;
   options.parent_surface = [&](long node) {
     const std::string& label = labels[static_cast<std::size_t>(node)];
@@ -144,6 +153,7 @@ void add_edge_diagnostics(const core::Capture& capture, const similarity::Histog
   };
   const align::Registration isolated = align::register_capture(capture, set.frames, tree, options);
   const align::TruthEvaluation own = align::evaluate_against_truth(truth, isolated);
+  if (!arrays.empty()) write_truth_errors(arrays / "edge_truth_errors.npy", truth, isolated);
   std::vector<long> order;
   for (std::size_t node = 0; node < own.frames.size(); ++node) {
     per_frame[node]["edge_rms_m"] = own.frames[node].rms;
@@ -218,7 +228,9 @@ void register_frames(const RegisterCommands::State& state, const core::ToolApp& 
     for (const auto& frame : evaluation.frames)
       per_frame.push_back({{"rms_m", frame.rms}, {"max_m", frame.max}, {"normal_rms_m", frame.normal_rms},
                            {"tangential_rms_m", frame.tangential_rms}, {"observed_fraction", frame.observed_fraction}});
-    if (state.edge_diagnostics) add_edge_diagnostics(capture, set, tree, options, truth, evaluation, per_frame, figures);
+    if (state.edge_diagnostics)
+      add_edge_diagnostics(capture, set, tree, options, truth, evaluation, per_frame, figures,
+                           state.truth_arrays ? out / "report" : std::filesystem::path());
     figures["ground_truth"]["frames"] = per_frame;
     if (state.truth_arrays) write_truth_arrays(out / "report", truth, registration, evaluation);
     if (state.preview_frames > 0) {
