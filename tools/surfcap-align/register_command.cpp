@@ -109,9 +109,7 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
       ->check(CLI::PositiveNumber);
 }
 
-/// Per node and template vertex: aligned − true position (float32 [nodes, n, 3], world metres) and
-/// whether a camera sees the true location (uint8 [nodes, n]); nodes in report order.
-/// Per template vertex, aligned − true world position of every node: float32 [nodes, n, 3].
+/// Per node (report order) and template vertex: aligned − true world position, float32 [nodes, n, 3].
 void write_truth_errors(const std::filesystem::path& path, const align::TruthReference& truth,
                         const align::Registration& registration) {
   const std::size_t nodes = registration.frames.size();
@@ -127,6 +125,8 @@ void write_truth_errors(const std::filesystem::path& path, const align::TruthRef
   core::write_npy(path, errors.data(), {nodes, n, 3});
 }
 
+/// truth_errors.npy (above) and whether a camera sees the true location, truth_observed.npy
+/// (uint8 [nodes, n]).
 void write_truth_arrays(const std::filesystem::path& folder, const align::TruthReference& truth,
                         const align::Registration& registration, const align::TruthEvaluation& evaluation) {
   const std::size_t nodes = registration.frames.size();
