@@ -83,6 +83,11 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_option("--features-per-image", p.features.max_per_image, "Strongest SIFT keypoints kept per image");
   cmd->add_option("--feature-ratio", p.features.ratio, "Ratio test of the feature matching");
   cmd->add_flag("!--no-images", options.images, "Geometry only: ignore the capture's camera images");
+  cmd->add_option("--crease-weight", p.crease_weight,
+                  "Weight of crease matching: rest-template rim vertices to the reconstruction's convex creases (0: off)");
+  cmd->add_option("--crease-angle", p.crease_angle_deg, "Dihedral angle (degrees) above which a convex edge is a crease");
+  cmd->add_option("--crease-distance", p.crease_distance_edges, "Crease matching gate in template mean edge lengths");
+  cmd->add_option("--crease-patch-levels", p.crease_patch_levels, "Crease matching also at the last N patch levels");
   cmd->add_option("--heading-samples", p.heading_samples, "Headings tried when frames do not overlap rigidly");
   cmd->add_option("--interior-spacing", options.deformer.tetrahedra.interior_spacing_edges,
                   "Interior points of the tet mesh: grid spacing in template mean edges (≤ 0: none)");

@@ -88,7 +88,7 @@ core::Json alignment_figures(const Registration& registration) {
                       {"uncovered_fraction", a.uncovered_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints},
-                                           {"coverage", a.coverage_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
+                                           {"coverage", a.coverage_constraints}, {"crease", a.crease_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
                       {"accepted_patches", a.accepted_patches},
                       {"color_patches", a.color_patches},
                       {"predicted", a.predicted},

@@ -3,11 +3,13 @@
 #include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
 
+#include "surfcap/align/creases.hpp"
 #include "surfcap/align/feature_constraints.hpp"
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/core/error.hpp"
@@ -158,6 +160,8 @@ void PairwiseOptions::validate() const {
   require(std::isfinite(patch_color_scale), "patch colour scale must be finite");
   require(features.ratio > 0 && features.ratio <= 1, "feature ratio must be in (0, 1]");
   require(features.max_per_image >= 1, "features per image must be ≥ 1");
+  require(crease_angle_deg > 0 && crease_angle_deg < 180, "crease angle must be in (0, 180) degrees");
+  require(crease_distance_edges > 0, "crease distance must be > 0");
   flow.validate();
 }
 
@@ -174,6 +178,8 @@ core::Json PairwiseOptions::to_json() const {
           {"color_smoothing", color_smoothing},
           {"prediction_levels", prediction_levels}, {"prediction_gain", prediction_gain},
           {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
+          {"crease_weight", crease_weight}, {"crease_angle_deg", crease_angle_deg},
+          {"crease_distance_edges", crease_distance_edges}, {"crease_patch_levels", crease_patch_levels},
           {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
                     {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
                     {"min_facing", flow.min_facing}, {"visibility_edges", flow.visibility_edges},
@@ -196,6 +202,8 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
       mean_edge_(mean_edge_length(mesh_)),
       height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()) {
   if (mesh_.has_colors()) smoothed_colors_ = smoothed_vertex_colors(mesh_.F, mesh_.colors, options.color_smoothing);
+  if (options.crease_weight > 0)
+    crease_vertices_ = convex_crease_vertices(mesh_.V, mesh_.F, options.crease_angle_deg * std::numbers::pi / 180);
 }
 
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {
@@ -303,6 +311,31 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     add_feature_targets(surface, F, pulls, options.coverage_weight, targets, weights);
   };
 
+  // Crease matching: the template's rim vertices to the reconstruction's convex creases.
+  std::unique_ptr<CreaseLines> crease_lines;
+  if (options.crease_weight > 0 && !model.crease_vertices().empty()) {
+    start = Clock::now();
+    crease_lines = std::make_unique<CreaseLines>(target.vertices(), target.faces(),
+                                                 options.crease_angle_deg * std::numbers::pi / 180,
+                                                 options.crease_distance_edges * model.mean_edge());
+    result.timings.matching += seconds_since(start);
+  }
+  auto add_crease_targets = [&](const Eigen::MatrixXd& surface, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {
+    if (!crease_lines) return;
+    const Eigen::MatrixXd normals = core::vertex_normals(surface, F);
+    const double gate = options.crease_distance_edges * model.mean_edge();
+    result.crease_constraints = 0;
+    for (const int v : model.crease_vertices()) {
+      Eigen::Vector3d point;
+      if (!crease_lines->closest(surface.row(v).transpose(), normals.row(v).transpose(), gate,
+                                 options.normal_compatibility, point))
+        continue;
+      targets.row(v) = point.transpose();
+      weights(v) = options.crease_weight;
+      ++result.crease_constraints;
+    }
+  };
+
   // Colour-aware patch correspondences when both meshes have colours.
   std::unique_ptr<ColoredTarget> colored;
   Eigen::MatrixXd target_smoothed_colors;
@@ -377,6 +410,8 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     }
     if (use_flow && static_cast<int>(level) >= static_cast<int>(model.patches().size()) - options.flow.patch_levels)
       add_flow_targets(surface, targets, weights);
+    if (static_cast<int>(level) >= static_cast<int>(model.patches().size()) - options.crease_patch_levels)
+      add_crease_targets(surface, targets, weights);
     add_coverage_targets(surface, icp.max_distance, targets, weights);
     add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
     result.timings.matching += seconds_since(start);
@@ -438,6 +473,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
     const long matched = dense_targets(surface, targets, weights);
     result.dense_constraints = matched;
+    add_crease_targets(surface, targets, weights);
     add_coverage_targets(surface, options.coarse_distance * model.height(), targets, weights);
     add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
     result.timings.matching += seconds_since(start);
@@ -454,13 +490,14 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
       result.dense_constraints = dense_targets(surface, targets, weights);
       add_flow_targets(surface, targets, weights);
+      add_crease_targets(surface, targets, weights);
       add_coverage_targets(surface, options.coarse_distance * model.height(), targets, weights);
       add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
       result.timings.matching += seconds_since(start);
       if (weights.maxCoeff() <= 0) break;
       solve(targets, weights);
     }
-  }
+    }
 
   start = Clock::now();
   const Eigen::VectorXd distances = surface_distances(positions.topRows(surface_count), target);

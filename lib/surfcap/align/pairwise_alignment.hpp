@@ -65,6 +65,14 @@ struct PairwiseOptions {
   FlowOptions flow;
   double uncovered_distance_edges = 1.5;  ///< a reconstruction vertex farther than this from the aligned
                                           ///< template (template mean edges) is uncovered
+  /// Crease matching (creases.hpp): template vertices on a convex crease of the rest surface
+  /// (dihedral angle > `crease_angle_deg`) are drawn to the closest point of the reconstruction's
+  /// convex creases within `crease_distance_edges` (bisector within the normal gate), with this
+  /// weight, replacing their closest-point target (≤ 0: off).
+  double crease_weight = 0;
+  double crease_angle_deg = 50;
+  double crease_distance_edges = 4;
+  int crease_patch_levels = 0;  ///< crease matching also at the last this many patch levels (always in the dense fit)
   /// Throws bad_arguments naming the offending option.
   void validate() const;
   core::Json to_json() const;
@@ -79,6 +87,8 @@ class AlignmentTemplate {
   const std::vector<PatchSet>& patches() const { return patches_; }
   /// The template's vertex colours smoothed for colour-aware patch matching (empty: no colours).
   const Eigen::MatrixXd& smoothed_colors() const { return smoothed_colors_; }
+  /// Vertices on a convex crease of the template at rest (PairwiseOptions::crease_angle_deg).
+  const std::vector<int>& crease_vertices() const { return crease_vertices_; }
   double mean_edge() const { return mean_edge_; }
   double height() const { return height_; }  ///< extent along y at rest (m)
   double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
@@ -89,6 +99,7 @@ class AlignmentTemplate {
   VolumeDeformer deformer_;
   std::vector<PatchSet> patches_;
   Eigen::MatrixXd smoothed_colors_;
+  std::vector<int> crease_vertices_;
   double mean_edge_ = 0;
   double height_ = 0;
 };
@@ -116,6 +127,7 @@ struct PairwiseResult {
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
   double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
+  long crease_constraints = 0;  ///< template crease vertices drawn to the reconstruction's creases (last solve)
   PairwiseTimings timings;
 };
 
