@@ -3,7 +3,6 @@
 #include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>

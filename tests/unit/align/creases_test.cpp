@@ -82,7 +82,7 @@ TEST(Creases, ClosestRimPointRespectsTheGateAndTheNormal) {
   EXPECT_NEAR(q.y(), 0.5, 1e-12);
   EXPECT_NEAR(q.x(), chord * std::cos(a), 1e-9);
   EXPECT_NEAR(q.z(), chord * std::sin(a), 1e-9);
-  // Facing the other way: only the bottom rim's bisectors are compatible, and it is beyond the gate.
+  // Facing the other way: no rim's bisector is within 60° of it.
   EXPECT_FALSE(lines.closest(p, -bisector, 0.1, 0.5, q));
   // Beyond the gate.
   EXPECT_FALSE(lines.closest(p, bisector, 0.03, 0.5, q));
