@@ -87,6 +87,12 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
                   "Weight of crease matching: rest-template rim vertices to the reconstruction's convex creases (0: off)");
   cmd->add_option("--crease-angle", p.crease_angle_deg, "Dihedral angle (degrees) above which a convex edge is a crease");
   cmd->add_option("--crease-distance", p.crease_distance_edges, "Crease matching gate in template mean edge lengths");
+  cmd->add_option("--crease-straightness", p.crease_straightness,
+                  "Match only straight crease stretches of the template: max sqrt(l2/l1) of nearby crease vertices (>= 1: all)");
+  cmd->add_option("--crease-target-straightness", p.crease_target_straightness,
+                  "The same filter on the reconstruction's creases (>= 1: all)");
+  cmd->add_option("--crease-straight-radius", p.crease_straight_radius_edges,
+                  "Neighbourhood of the straightness test, in template mean edge lengths");
   cmd->add_option("--crease-patch-levels", p.crease_patch_levels, "Crease matching also at the last N patch levels");
   cmd->add_option("--heading-samples", p.heading_samples, "Headings tried when frames do not overlap rigidly");
   cmd->add_option("--interior-spacing", options.deformer.tetrahedra.interior_spacing_edges,

@@ -1,5 +1,6 @@
 #include "surfcap/align/creases.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -73,12 +74,52 @@ std::vector<int> convex_crease_vertices(const Eigen::MatrixXd& V, const Eigen::M
   return vertices;
 }
 
-CreaseLines::CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach)
+std::vector<int> straight_crease_vertices(const Eigen::MatrixXd& V, const std::vector<int>& crease, double radius,
+                                          double max_ratio) {
+  if (max_ratio >= 1) return crease;
+  // Crease sets are small (tens to a few hundred vertices): all pairs.
+  std::vector<int> straight;
+  const double r2 = radius * radius;
+  for (const int v : crease) {
+    const Eigen::RowVector3d p = V.row(v);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    int count = 0;
+    for (const int u : crease) {
+      const Eigen::Vector3d d = (V.row(u) - p).transpose();
+      if (d.squaredNorm() > r2) continue;
+      sum += d;
+      outer += d * d.transpose();
+      ++count;
+    }
+    if (count < 3) continue;
+    const Eigen::Vector3d mean = sum / count;
+    const Eigen::Matrix3d covariance = outer / count - mean * mean.transpose();
+    const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+    if (eigenvalues(2) > 0 && eigenvalues(1) <= max_ratio * max_ratio * eigenvalues(2)) straight.push_back(v);
+  }
+  return straight;
+}
+
+CreaseLines::CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach,
+                         double straight_radius, double max_ratio)
     : V_(V) {
   if (!(reach > 0)) throw core::internal_error("CreaseLines: reach must be > 0");
+  std::vector<DihedralEdge> creases;
+  for (const DihedralEdge& edge : dihedral_edges(V, F))
+    if (edge.convex_angle > min_angle) creases.push_back(edge);
+  std::vector<char> straight(static_cast<std::size_t>(V.rows()), 1);
+  if (max_ratio < 1) {
+    std::vector<int> ends;
+    for (const DihedralEdge& edge : creases) ends.insert(ends.end(), {edge.a, edge.b});
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    std::fill(straight.begin(), straight.end(), 0);
+    for (const int v : straight_crease_vertices(V, ends, straight_radius, max_ratio)) straight[static_cast<std::size_t>(v)] = 1;
+  }
   double longest = 0;
-  for (const DihedralEdge& edge : dihedral_edges(V, F)) {
-    if (edge.convex_angle <= min_angle) continue;
+  for (const DihedralEdge& edge : creases) {
+    if (!straight[static_cast<std::size_t>(edge.a)] || !straight[static_cast<std::size_t>(edge.b)]) continue;
     edges_.push_back({edge.a, edge.b});
     bisectors_.push_back((edge.n1 + edge.n2).normalized());
     longest = std::max(longest, (V.row(edge.a) - V.row(edge.b)).norm());

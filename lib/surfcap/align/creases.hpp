@@ -21,11 +21,22 @@ Eigen::VectorXd convex_crease_angles(const Eigen::MatrixXd& V, const Eigen::Matr
 /// The vertices whose convex crease angle exceeds `min_angle` (radians), ascending.
 std::vector<int> convex_crease_vertices(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle);
 
+/// The crease vertices (`crease`, ascending) that lie on a straight stretch of crease: the crease
+/// vertices within `radius` of the vertex (itself included, at least 3) spread along one direction,
+/// sqrt(λ₂/λ₁) ≤ `max_ratio` for the two largest eigenvalues of their covariance. A hem or a rim
+/// is straight at the scale of a few edges; the crease loop round a small feature (a mitten hand, a
+/// fingertip) is not, and such loops are where two reconstructions disagree on whether there is a
+/// crease at all. `max_ratio` ≥ 1 keeps every vertex.
+std::vector<int> straight_crease_vertices(const Eigen::MatrixXd& V, const std::vector<int>& crease, double radius,
+                                          double max_ratio);
+
 /// The convex crease edges of a surface (dihedral angle > `min_angle`), binned for closest-point
-/// queries within `reach` (m).
+/// queries within `reach` (m). With `max_ratio` < 1 only edges whose two ends are straight crease
+/// vertices (straight_crease_vertices with `straight_radius`) are kept.
 class CreaseLines {
  public:
-  CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach);
+  CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach,
+              double straight_radius = 0, double max_ratio = 1);
   long edge_count() const { return static_cast<long>(edges_.size()); }
 
   /// The closest point to `p` on a crease edge within `max_distance` (≤ reach) whose bisector

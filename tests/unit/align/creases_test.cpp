@@ -92,5 +92,26 @@ TEST(Creases, ClosestRimPointRespectsTheGateAndTheNormal) {
   EXPECT_NEAR(q.x(), 0.2, 1e-9);
 }
 
+TEST(Creases, OnlyStraightStretchesOfCreasePassTheStraightnessTest) {
+  // At a 0.08 m neighbourhood the rim of a wide can (r = 0.4 m, a hem) is nearly straight; the rim
+  // of a thin one (r = 0.03 m, a finger) is a whole circle.
+  const double radius = 0.08, max_ratio = 0.45;
+  const Can wide = closed_can(0.4, 0.5, 6, 64);
+  const Can thin = closed_can(0.03, 0.5, 6, 12);
+  const std::vector<int> wide_rims = convex_crease_vertices(wide.V, wide.F, std::numbers::pi / 4);
+  const std::vector<int> thin_rims = convex_crease_vertices(thin.V, thin.F, std::numbers::pi / 4);
+  ASSERT_EQ(wide_rims, wide.rims);
+  ASSERT_EQ(thin_rims, thin.rims);
+  EXPECT_EQ(straight_crease_vertices(wide.V, wide_rims, radius, max_ratio), wide.rims);
+  EXPECT_TRUE(straight_crease_vertices(thin.V, thin_rims, radius, max_ratio).empty());
+  // ≥ 1 keeps everything; too few neighbours (a lone vertex) is not a stretch.
+  EXPECT_EQ(straight_crease_vertices(thin.V, thin_rims, radius, 1), thin.rims);
+  EXPECT_TRUE(straight_crease_vertices(wide.V, {wide.rims[0]}, radius, 0.99).empty());
+  // The same filter on the crease lines: every wide rim edge stays, no thin one.
+  EXPECT_EQ(CreaseLines(wide.V, wide.F, std::numbers::pi / 4, 0.1, radius, max_ratio).edge_count(), 2 * 64);
+  EXPECT_EQ(CreaseLines(thin.V, thin.F, std::numbers::pi / 4, 0.1, radius, max_ratio).edge_count(), 0);
+  EXPECT_EQ(CreaseLines(thin.V, thin.F, std::numbers::pi / 4, 0.1).edge_count(), 2 * 12);
+}
+
 }  // namespace
 }  // namespace surfcap::align
