@@ -91,8 +91,8 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
                   "Match only straight crease stretches of the template: max sqrt(l2/l1) of nearby crease vertices (>= 1: all)");
   cmd->add_option("--crease-target-straightness", p.crease_target_straightness,
                   "The same filter on the reconstruction's creases (>= 1: all)");
-  cmd->add_option("--crease-straight-radius", p.crease_straight_radius_edges,
-                  "Neighbourhood of the straightness test, in template mean edge lengths");
+  cmd->add_option("--crease-straight-radius", p.crease_straight_radius,
+                  "Neighbourhood of the straightness test, fraction of the template height");
   cmd->add_option("--crease-patch-levels", p.crease_patch_levels, "Crease matching also at the last N patch levels");
   cmd->add_option("--heading-samples", p.heading_samples, "Headings tried when frames do not overlap rigidly");
   cmd->add_option("--interior-spacing", options.deformer.tetrahedra.interior_spacing_edges,

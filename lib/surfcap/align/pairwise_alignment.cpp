@@ -162,7 +162,7 @@ void PairwiseOptions::validate() const {
   require(crease_angle_deg > 0 && crease_angle_deg < 180, "crease angle must be in (0, 180) degrees");
   require(crease_distance_edges > 0, "crease distance must be > 0");
   require(crease_straightness > 0 && crease_target_straightness > 0, "crease straightness must be > 0");
-  require(crease_straight_radius_edges > 0, "crease straightness radius must be > 0");
+  require(crease_straight_radius > 0, "crease straightness radius must be > 0");
   flow.validate();
 }
 
@@ -182,7 +182,7 @@ core::Json PairwiseOptions::to_json() const {
           {"crease_weight", crease_weight}, {"crease_angle_deg", crease_angle_deg},
           {"crease_distance_edges", crease_distance_edges}, {"crease_patch_levels", crease_patch_levels},
           {"crease_straightness", crease_straightness}, {"crease_target_straightness", crease_target_straightness},
-          {"crease_straight_radius_edges", crease_straight_radius_edges},
+          {"crease_straight_radius", crease_straight_radius},
           {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
                     {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
                     {"min_facing", flow.min_facing}, {"visibility_edges", flow.visibility_edges},
@@ -208,7 +208,7 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
   if (options.crease_weight > 0)
     crease_vertices_ = straight_crease_vertices(
         mesh_.V, convex_crease_vertices(mesh_.V, mesh_.F, options.crease_angle_deg * std::numbers::pi / 180),
-        options.crease_straight_radius_edges * mean_edge_, options.crease_straightness);
+        options.crease_straight_radius * height_, options.crease_straightness);
 }
 
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {
@@ -323,7 +323,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     crease_lines = std::make_unique<CreaseLines>(target.vertices(), target.faces(),
                                                  options.crease_angle_deg * std::numbers::pi / 180,
                                                  options.crease_distance_edges * model.mean_edge(),
-                                                 options.crease_straight_radius_edges * model.mean_edge(),
+                                                 options.crease_straight_radius * model.height(),
                                                  options.crease_target_straightness);
     result.timings.matching += seconds_since(start);
   }

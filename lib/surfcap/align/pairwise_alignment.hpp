@@ -73,11 +73,13 @@ struct PairwiseOptions {
   double crease_angle_deg = 50;
   double crease_distance_edges = 4;
   /// Only straight stretches of crease are matched (straight_crease_vertices: sqrt(λ₂/λ₁) of the
-  /// crease vertices within `crease_straight_radius_edges` mean edges ≤ this), on the template
-  /// and, with `crease_target_straightness` < 1, on the reconstruction; ≥ 1 = every crease vertex.
+  /// crease vertices within `crease_straight_radius` ≤ this), on the template and, with
+  /// `crease_target_straightness` < 1, on the reconstruction; ≥ 1 = every crease vertex. The
+  /// radius is a fraction of the template height, a body scale (a hand's crease loop is a whole
+  /// loop within it at any mesh resolution), not a number of edges.
   double crease_straightness = 0.45;
   double crease_target_straightness = 1;
-  double crease_straight_radius_edges = 3.5;
+  double crease_straight_radius = 0.048;
   int crease_patch_levels = 0;  ///< crease matching also at the last this many patch levels (always in the dense fit)
   /// Throws bad_arguments naming the offending option.
   void validate() const;
