@@ -24,9 +24,9 @@ std::vector<int> convex_crease_vertices(const Eigen::MatrixXd& V, const Eigen::M
 /// The crease vertices (`crease`, ascending) that lie on a straight stretch of crease: the crease
 /// vertices within `radius` of the vertex (itself included, at least 3) spread along one direction,
 /// sqrt(λ₂/λ₁) ≤ `max_ratio` for the two largest eigenvalues of their covariance. A hem or a rim
-/// is straight at the scale of a few edges; the crease loop round a small feature (a mitten hand, a
-/// fingertip) is not, and such loops are where two reconstructions disagree on whether there is a
-/// crease at all. `max_ratio` ≥ 1 keeps every vertex.
+/// is straight at the scale of a hand (`radius` ≈ 8 cm); the crease loop round a small feature (a
+/// mitten hand, a fingertip) is not, and such loops are where two reconstructions disagree on
+/// whether there is a crease at all. `max_ratio` ≥ 1 keeps every vertex.
 std::vector<int> straight_crease_vertices(const Eigen::MatrixXd& V, const std::vector<int>& crease, double radius,
                                           double max_ratio);
 
