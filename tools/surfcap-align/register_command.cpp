@@ -103,6 +103,12 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_option("--max-uncovered", options.max_uncovered,
                   "Fraction of a reconstruction left uncovered by the aligned template above which a frame failed")
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--max-stacked", options.max_stacked,
+                  "Fraction of the template's vertices in stacked layers (laid onto a far part of itself) above which a frame failed")
+      ->check(CLI::Range(1e-9, 1.0));
+  cmd->add_option("--residual-growth", options.residual_growth,
+                  "A frame whose mean residual exceeds this many times its parent's failed (0: off)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--retries", options.retries, "Alternative parents tried for a failed frame")->check(CLI::Range(0, 10));
   cmd->add_option("--entry-candidates", options.entry_candidates,
                   "An edge from another sequence is also aligned from the most similar frame of up to N other sequences")

@@ -75,6 +75,7 @@ core::Json alignment_figures(const Registration& registration) {
     for (const auto& attempt : record.failed_attempts)
       attempts.push_back({{"parent", attempt.parent}, {"mean_residual_m", attempt.mean_residual},
                           {"uncovered_fraction", attempt.uncovered_fraction},
+                          {"stacked_fraction", attempt.stacked_fraction},
                           {"failure", attempt.failure}});
     retried += record.failed_attempts.empty() ? 0 : 1;
     unrecovered += record.unrecovered ? 1 : 0;
@@ -86,6 +87,7 @@ core::Json alignment_figures(const Registration& registration) {
                       {"mean_residual_m", a.mean_residual},
                       {"max_residual_m", a.max_residual},
                       {"uncovered_fraction", a.uncovered_fraction},
+                      {"stacked_fraction", a.stacked_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints},
                                            {"coverage", a.coverage_constraints}, {"crease", a.crease_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},

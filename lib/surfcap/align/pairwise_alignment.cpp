@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -137,6 +138,23 @@ class VertexGrid {
 
 }  // namespace
 
+double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                        double distance, double rest_distance) {
+  const long n = aligned.rows();
+  if (n == 0 || distance <= 0) return 0.0;
+  const Eigen::MatrixXd normals = core::vertex_normals(aligned, F);
+  const VertexGrid grid(aligned, distance);
+  std::vector<char> stacked(static_cast<std::size_t>(n), 0);
+  const double d2 = distance * distance, r2 = rest_distance * rest_distance;
+  for (long v = 0; v < n; ++v)
+    grid.around(aligned.row(v).transpose(), [&](long u) {
+      if (u <= v || (aligned.row(u) - aligned.row(v)).squaredNorm() > d2) return;
+      if ((rest.row(u) - rest.row(v)).squaredNorm() <= r2 || normals.row(u).dot(normals.row(v)) <= 0.5) return;
+      stacked[static_cast<std::size_t>(u)] = stacked[static_cast<std::size_t>(v)] = 1;
+    });
+  return static_cast<double>(std::count(stacked.begin(), stacked.end(), 1)) / static_cast<double>(n);
+}
+
 void PairwiseOptions::validate() const {
   auto require = [](bool ok, const char* what) {
     if (!ok) throw core::bad_arguments(std::string("alignment option: ") + what);
@@ -163,6 +181,7 @@ void PairwiseOptions::validate() const {
   require(crease_distance_edges > 0, "crease distance must be > 0");
   require(crease_straightness > 0 && crease_target_straightness > 0, "crease straightness must be > 0");
   require(crease_straight_radius > 0, "crease straightness radius must be > 0");
+  require(stacked_distance_edges > 0 && stacked_rest_distance > 0, "stacked-layer distances must be > 0");
   flow.validate();
 }
 
@@ -181,6 +200,7 @@ core::Json PairwiseOptions::to_json() const {
           {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
           {"crease_weight", crease_weight}, {"crease_angle_deg", crease_angle_deg},
           {"crease_distance_edges", crease_distance_edges}, {"crease_patch_levels", crease_patch_levels},
+          {"stacked_distance_edges", stacked_distance_edges}, {"stacked_rest_distance", stacked_rest_distance},
           {"crease_straightness", crease_straightness}, {"crease_target_straightness", crease_target_straightness},
           {"crease_straight_radius", crease_straight_radius},
           {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
@@ -521,6 +541,9 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     result.uncovered_fraction =
         target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows()) : 0.0;
   }
+  result.stacked_fraction = stacked_fraction(model.mesh().V, positions.topRows(surface_count), F,
+                                             options.stacked_distance_edges * model.mean_edge(),
+                                             options.stacked_rest_distance * model.height());
   result.timings.matching += seconds_since(start);
   result.positions = std::move(positions);
   return result;

@@ -65,6 +65,11 @@ struct PairwiseOptions {
   FlowOptions flow;
   double uncovered_distance_edges = 1.5;  ///< a reconstruction vertex farther than this from the aligned
                                           ///< template (template mean edges) is uncovered
+  /// Stacked layers (PairwiseResult::stacked_fraction): two aligned template vertices closer than
+  /// `stacked_distance_edges` (template mean edges), facing the same way (normals' cosine above
+  /// 0.5), that lie more than `stacked_rest_distance` (fraction of the template height) apart at rest.
+  double stacked_distance_edges = 0.5;
+  double stacked_rest_distance = 0.057;
   /// Crease matching (creases.hpp): template vertices on a convex crease of the rest surface
   /// (dihedral angle > `crease_angle_deg`) are drawn to the closest point of the reconstruction's
   /// convex creases within `crease_distance_edges` (bisector within the normal gate), with this
@@ -135,6 +140,10 @@ struct PairwiseResult {
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
   double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
+  /// Of the template's surface vertices, those in stacked layers: laid onto the same stretch of
+  /// surface as a part of the template far from them at rest (a hand pushed up its forearm, a limb
+  /// laid onto another) — a fold the one- and two-sided residuals cannot see.
+  double stacked_fraction = 0;
   long crease_constraints = 0;  ///< template crease vertices drawn to the reconstruction's creases (last solve)
   PairwiseTimings timings;
 };
@@ -153,6 +162,14 @@ struct FeaturePair {
   const TemplateAppearance* appearance = nullptr;
   const std::vector<GreyImage>* child_images = nullptr;
 };
+
+/// Fraction of the vertices of `aligned` (the template surface posed, faces F) in stacked layers:
+/// within `distance` of another vertex with a normal at less than 60° from theirs that lies more
+/// than `rest_distance` from them in `rest`. A surface laid onto itself (a hand pushed up its
+/// forearm: the hand's vertices on the forearm's stretch of the reconstruction) is a fold the
+/// residuals cannot see; two parts that touch face each other and do not count.
+double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                        double distance, double rest_distance);
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
 /// reconstruction, queried through `target_query`); `target_colors` (per target vertex, 0..1) enables

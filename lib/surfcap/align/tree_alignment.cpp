@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <algorithm>
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -199,9 +200,34 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       const std::vector<GreyImage> child_images =
           appearance ? read_grey_images(capture, child.sequence, child.frame) : std::vector<GreyImage>{};
       auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
-      // > 1: failed. The worse of the residual and the uncovered fraction, relative to their limits.
-      const auto failure_score = [&](const PairwiseResult& r) {
-        return std::max(r.mean_residual / options.failure_residual, r.uncovered_fraction / options.max_uncovered);
+      // An attempt passes, fits clearly worse than its parent did (`grown`: worth a retry, but no
+      // evidence of a wrong alignment on its own) or failed: its residual, uncovered or stacked
+      // fraction is above the limit (the worst relative to its limit names the failure).
+      enum class Verdict { pass, grown, failed };
+      const auto hard_scores = [&](const PairwiseResult& r) {
+        return std::array<double, 3>{r.mean_residual / options.failure_residual,
+                                     r.uncovered_fraction / options.max_uncovered,
+                                     r.stacked_fraction / options.max_stacked};
+      };
+      const auto grown = [&](const PairwiseResult& r, long from) {
+        // The root's residual is that of the template on its own reconstruction (about 0): no reference.
+        const double parent_residual =
+            from == tree.root ? 0.0 : registration.frames[static_cast<std::size_t>(from)].alignment.mean_residual;
+        return options.residual_growth > 0 && parent_residual > 0 &&
+               r.mean_residual > options.residual_growth * parent_residual;
+      };
+      const auto verdict = [&](const PairwiseResult& r, long from) {
+        const auto scores = hard_scores(r);
+        if (*std::max_element(scores.begin(), scores.end()) > 1) return Verdict::failed;
+        return grown(r, from) ? Verdict::grown : Verdict::pass;
+      };
+      const auto failure_reason = [&](const PairwiseResult& r, long from) -> std::string {
+        static const char* const reasons[] = {"mean residual above the failure threshold",
+                                              "reconstruction not covered by the aligned template",
+                                              "aligned template stacked onto itself"};
+        if (verdict(r, from) == Verdict::grown) return "mean residual grown beyond its parent's";
+        const auto scores = hard_scores(r);
+        return reasons[std::max_element(scores.begin(), scores.end()) - scores.begin()];
       };
       // The child's surface predicted from `from` (all deformer vertices `parent`) and from's own
       // parent, when they are the child's next two frames in its sequence; empty otherwise.
@@ -241,14 +267,12 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           PairwiseResult result = align_pair(model, parent, query, options.pairwise,
                                              target.has_colors() ? &target.colors : nullptr, pair,
                                              predicted.rows() > 0 ? &predicted : nullptr);
-          if (failure_score(result) <= 1) return result;
-          record.failed_attempts.push_back(
-              {from, result.mean_residual, result.uncovered_fraction,
-               result.mean_residual > options.failure_residual ? "mean residual above the failure threshold"
-                                                               : "reconstruction not covered by the aligned template"});
+          if (verdict(result, from) == Verdict::pass) return result;
+          record.failed_attempts.push_back({from, result.mean_residual, result.uncovered_fraction,
+                                            result.stacked_fraction, failure_reason(result, from)});
           return result;  // kept only if no retry does better
         } catch (const core::Error& error) {
-          record.failed_attempts.push_back({from, -1.0, 0.0, error.what()});
+          record.failed_attempts.push_back({from, -1.0, 0.0, 0.0, error.what()});
           return std::nullopt;
         }
       };
@@ -259,10 +283,8 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       };
       std::optional<PairwiseResult> best = attempt(edge.parent);
       long best_parent = edge.parent;
-      // A failure inherited from an unrecovered parent is reported, not retried (its alternatives
-      // were tried for the parent already).
-      const bool parent_failed = registration.frames[static_cast<std::size_t>(edge.parent)].unrecovered;
-      if (!record.failed_attempts.empty() && options.costs != nullptr && !options.parent_surface && !parent_failed) {
+      Verdict best_verdict = best ? verdict(*best, edge.parent) : Verdict::failed;
+      if (!record.failed_attempts.empty() && options.costs != nullptr && !options.parent_surface) {
         // Next-best neighbours: frames of lower depth (already aligned), by similarity cost.
         std::vector<std::pair<double, long>> candidates;
         for (long other = 0; other < node_count; ++other)
@@ -271,17 +293,21 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         std::sort(candidates.begin(), candidates.end());
         for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
           const long from = candidates[k].second;
-          const std::size_t failures = record.failed_attempts.size();
           std::optional<PairwiseResult> retry = attempt(from);
-          // An alternative replaces the tree parent's attempt only if it passes (or the tree
-          // parent's threw): when all fail, the most similar frame's attempt is the safer guess (a
-          // lower failure score is no evidence of a better alignment: dance:5 from its tree parent
-          // 55 mm from the truth at 1.8 % uncovered, from an alternative 154 mm at 1.4 %).
-          if (retry && (!best || failure_score(*retry) <= 1)) {
+          if (!retry) continue;
+          const Verdict v = verdict(*retry, from);
+          // Of the attempts that did not fail, the lowest mean residual is kept (as for entry
+          // candidates, below); one that did not fail replaces one that did. When all fail, the tree
+          // parent's attempt is the safer guess (a lower failure score is no evidence of a better
+          // alignment: dance:5 from its tree parent 55 mm from the truth at 1.8 % uncovered, from an
+          // alternative 154 mm at 1.4 %).
+          const bool usable = v != Verdict::failed;
+          if (!best || (usable && (best_verdict == Verdict::failed || retry->mean_residual < best->mean_residual))) {
             best = std::move(retry);
             best_parent = from;
+            best_verdict = v;
           }
-          if (record.failed_attempts.size() == failures) break;  // this one succeeded
+          if (v == Verdict::pass) break;
         }
       }
       // An edge entering the child's sequence from another: the similarity of two sequences' poses
@@ -306,7 +332,8 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           std::optional<PairwiseResult> alternative = attempt(entries[k].second);
           record.failed_attempts.resize(failures);  // an alternative that fails is no failure of the frame
           ++record.entry_attempts;
-          if (alternative && failure_score(*alternative) <= 1 && alternative->mean_residual < best->mean_residual &&
+          if (alternative && verdict(*alternative, entries[k].second) == Verdict::pass &&
+              alternative->mean_residual < best->mean_residual &&
               alternative->uncovered_fraction <= best->uncovered_fraction + options.max_uncovered / 4) {
             best = std::move(alternative);
             best_parent = entries[k].second;
@@ -323,7 +350,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       else if (best_parent != edge.parent)
         spdlog::warn("{}:{}: alignment from its tree parent failed; aligned from node {} instead", record.sequence,
                      record.frame, best_parent);
-      record.unrecovered = failure_score(*best) > 1;
+      record.unrecovered = best_verdict == Verdict::failed;
       PairwiseResult result = std::move(*best);
       positions[static_cast<std::size_t>(edge.child)] = std::move(result.positions);
       result.positions.resize(0, 0);

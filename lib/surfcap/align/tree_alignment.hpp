@@ -45,6 +45,12 @@ struct RegisterOptions {
   /// already aligned (a lower depth, by `costs`), up to `retries` times; the best attempt is kept.
   double failure_residual = 0.004;
   double max_uncovered = 0.01;  ///< or more than this fraction of the reconstruction is not covered (1: off)
+  /// … or more than this fraction of the template's vertices lie in stacked layers
+  /// (PairwiseResult::stacked_fraction: a hand pushed up its forearm; 1: off) …
+  double max_stacked = 0.005;
+  /// … or its mean residual is more than this many times its parent's (an edge that fits clearly
+  /// worse than the one before it; not from the root; ≤ 0: off).
+  double residual_growth = 1.3;
   int retries = 2;
   const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
   /// Motion prediction along the tree: when a child's parent and grandparent are its next two
@@ -76,6 +82,7 @@ struct FrameRecord {
     long parent = -1;
     double mean_residual = 0;  ///< < 0: the attempt threw
     double uncovered_fraction = 0;
+    double stacked_fraction = 0;
     std::string failure;       ///< why it was not good enough
   };
   std::vector<Attempt> failed_attempts;  ///< every attempt that failed (`parent` is the one kept)

@@ -67,6 +67,27 @@ core::Mesh two_tone_plane(int n) {
   return mesh;
 }
 
+TEST(PairwiseAlignment, StackedLayersAreASheetSlidOntoItselfNotOneFoldedToTouchIt) {
+  const core::Mesh rest = two_tone_plane(21);  // 5 cm spacing
+  const double distance = 0.025, far = 0.2;
+  EXPECT_EQ(stacked_fraction(rest.V, rest.V, rest.F, distance, far), 0.0);
+  // The half x > 0.5 slid 0.5 m back over the other half, 2 mm above it, facing the same way (a
+  // hand pushed up its forearm): both layers count, but for the columns next to the tear, whose
+  // normals the stretched faces there turn over.
+  Eigen::MatrixXd slid = rest.V;
+  for (long v = 0; v < slid.rows(); ++v)
+    if (slid(v, 0) > 0.5 + 1e-9) slid.row(v) += Eigen::RowVector3d(-0.5, 0, 0.002);
+  const double fraction = stacked_fraction(rest.V, slid, rest.F, distance, far);
+  EXPECT_NEAR(fraction, 16.0 * 21 / 441, 1e-9);
+  EXPECT_EQ(stacked_fraction(rest.V, slid, rest.F, distance, 0.6), 0.0);  // the layers are 0.5 m apart at rest
+  // The same half folded over onto the other (x → 1 − x, 1 cm above): the layers face each other,
+  // as two parts that touch do — no stacking.
+  Eigen::MatrixXd folded = rest.V;
+  for (long v = 0; v < folded.rows(); ++v)
+    if (folded(v, 0) > 0.5 + 1e-9) folded.row(v) << 1 - folded(v, 0), folded(v, 1), 0.01;
+  EXPECT_EQ(stacked_fraction(rest.V, folded, rest.F, distance, far), 0.0);
+}
+
 TEST(RigidIcp, ColourAwareMatchingUndoesASlideThatClosestPointsCannotSee) {
   // A patch of the plane spanning the colour edge, slid 6 cm along the plane: every point still lies
   // on the target, so closest points see no error; colours do.
