@@ -74,7 +74,7 @@ struct PairwiseOptions {
   /// (dihedral angle > `crease_angle_deg`) are drawn to the closest point of the reconstruction's
   /// convex creases within `crease_distance_edges` (bisector within the normal gate), with this
   /// weight, replacing their closest-point target (≤ 0: off).
-  double crease_weight = 0;
+  double crease_weight = 0.3;
   double crease_angle_deg = 50;
   double crease_distance_edges = 4;
   /// Only straight stretches of crease are matched (straight_crease_vertices: sqrt(λ₂/λ₁) of the
@@ -85,7 +85,7 @@ struct PairwiseOptions {
   double crease_straightness = 0.45;
   double crease_target_straightness = 1;
   double crease_straight_radius = 0.048;
-  int crease_patch_levels = 0;  ///< crease matching also at the last this many patch levels (always in the dense fit)
+  int crease_patch_levels = 2;  ///< crease matching also at the last this many patch levels (always in the dense fit)
   /// Throws bad_arguments naming the offending option.
   void validate() const;
   core::Json to_json() const;
