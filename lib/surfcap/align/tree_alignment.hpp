@@ -40,9 +40,12 @@ struct RegisterOptions {
   int threads = 0;  ///< ≤ 0: all hardware threads
   bool images = true;  ///< use camera-image features when the capture has images
   /// Recoverable failures (issue 10): a child whose alignment throws (solver failure), ends with a
-  /// mean residual above `failure_residual` (m) or leaves more than `max_uncovered` of its
-  /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) is aligned again from the next most similar frame
-  /// already aligned (a lower depth, by `costs`), up to `retries` times; the best attempt is kept.
+  /// mean residual above `failure_residual` (m), leaves more than `max_uncovered` of its
+  /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) or stacks more than
+  /// `max_stacked` (below) has failed; one whose residual grew beyond `residual_growth` × its
+  /// parent's is retried too. It is aligned again from the next most similar frames already aligned
+  /// (a lower depth, by `costs`), up to `retries` times; of the attempts that did not fail the lowest
+  /// mean residual is kept, and if all failed the tree parent's.
   double failure_residual = 0.004;
   double max_uncovered = 0.01;  ///< or more than this fraction of the reconstruction is not covered (1: off)
   /// … or more than this fraction of the template's vertices lie in stacked layers
