@@ -69,6 +69,10 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_option("--motion-prediction", options.motion_prediction,
                   "Predict a child from its next two aligned frames: parent + this × (parent − grandparent) (0: off)")
       ->check(CLI::Range(0.0, 2.0));
+  cmd->add_option("--twin-prediction", options.twin_prediction,
+                  "Also predict a child whose similarity cost to its parent's next frame is at most this fraction of "
+                  "its cost to the parent (a cycle's twin; 0: next frames only)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--prediction-levels", p.prediction_levels, "Patch levels that also try the motion-predicted start");
   cmd->add_option("--prediction-gain", p.prediction_gain,
                   "Predicted patch fit used when its mean distance is below this fraction of the other fit's");

@@ -10,6 +10,7 @@
 
 #include "surfcap/align/appearance_flow.hpp"
 #include "surfcap/align/image_features.hpp"
+#include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/align/surface_patches.hpp"
 #include "surfcap/align/volume_deformer.hpp"
 #include "surfcap/core/json_document.hpp"
@@ -170,6 +171,14 @@ struct FeaturePair {
 /// residuals cannot see; two parts that touch face each other and do not count.
 double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
                         double distance, double rest_distance);
+
+/// Whole-body rigid initialisation of a template surface (vertex normals `normals`) onto `target`:
+/// centroids matched, ICP; if the result does not overlap, the best of `heading_samples` rotations
+/// about the vertical axis (similar frames of different sequences may face differently: the shape
+/// similarity is invariant to heading).
+RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
+                              const geometry::SurfaceQuery& target, const AlignmentTemplate& model,
+                              const PairwiseOptions& options);
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
 /// reconstruction, queried through `target_query`); `target_colors` (per target vertex, 0..1) enables

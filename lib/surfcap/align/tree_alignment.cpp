@@ -122,6 +122,9 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
   options.pairwise.validate();
   const std::vector<NodeFrame> nodes = node_frames(capture, frames);
   const long node_count = static_cast<long>(nodes.size());
+  std::map<std::pair<int, int>, long> node_of;  // (capture sequence, frame) → node
+  for (long node = 0; node < node_count; ++node)
+    node_of[{nodes[static_cast<std::size_t>(node)].sequence, nodes[static_cast<std::size_t>(node)].frame}] = node;
   Registration registration;
   const NodeFrame root = nodes[static_cast<std::size_t>(tree.root)];
   const auto template_start = Clock::now();
@@ -230,18 +233,38 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         return reasons[std::max_element(scores.begin(), scores.end()) - scores.begin()];
       };
       // The child's surface predicted from `from` (all deformer vertices `parent`) and from's own
-      // parent, when they are the child's next two frames in its sequence; empty otherwise.
+      // parent, when they are consecutive frames of one sequence and the child is the frame that
+      // follows them — or looks much more like that frame than like `from` (a cycle's twin, below);
+      // empty otherwise.
       auto motion_prediction = [&](long from, const Eigen::MatrixXd& parent) -> Eigen::MatrixXd {
         if (options.motion_prediction <= 0 || options.parent_surface) return {};
         const long grand = registration.frames[static_cast<std::size_t>(from)].parent;
         if (grand < 0) return {};
         const NodeFrame a = nodes[static_cast<std::size_t>(grand)], b = nodes[static_cast<std::size_t>(from)];
-        if (a.sequence != child.sequence || b.sequence != child.sequence || std::abs(child.frame - b.frame) != 1 ||
-            child.frame - b.frame != b.frame - a.frame)
-          return {};
+        if (a.sequence != b.sequence || std::abs(b.frame - a.frame) != 1) return {};
+        const bool next_frame = child.sequence == b.sequence && child.frame - b.frame == b.frame - a.frame;
+        if (!next_frame) {
+          // A cyclic motion (run, walk) makes frames a cycle apart near copies of each other, and the
+          // tree links such twins: demo's run:28 ← run:11, where run:28 is run:10's twin (cost 0.002
+          // against 0.086 to run:11) — one running step of run:12 → run:11, with the rear foot
+          // kicking up out of the patch gate.
+          const auto next = node_of.find({b.sequence, 2 * b.frame - a.frame});
+          if (options.twin_prediction <= 0 || options.costs == nullptr || next == node_of.end() ||
+              (*options.costs)(edge.child, next->second) > options.twin_prediction * (*options.costs)(edge.child, from))
+            return {};
+        }
         const long n = model.deformer().surface_vertex_count();
-        return parent.topRows(n) +
-               options.motion_prediction * (parent.topRows(n) - positions[static_cast<std::size_t>(grand)].topRows(n));
+        Eigen::MatrixXd predicted =
+            parent.topRows(n) +
+            options.motion_prediction * (parent.topRows(n) - positions[static_cast<std::size_t>(grand)].topRows(n));
+        if (!next_frame) {
+          // The twin is a cycle's travel away (demo's run: 2 m): the predicted pose is moved onto the
+          // child's reconstruction as a whole, as the parent is by align_pair's rigid initialisation.
+          const RigidFit fit = rigid_initialisation(predicted, core::vertex_normals(predicted, model.mesh().F), query,
+                                                    model, options.pairwise);
+          predicted = ((predicted * fit.rotation.transpose()).rowwise() + fit.translation.transpose()).eval();
+        }
+        return predicted;
       };
       // One attempt from `from`; nullopt (and a record of why) if it throws or fits badly.
       auto attempt = [&](long from) -> std::optional<PairwiseResult> {

@@ -62,6 +62,10 @@ struct RegisterOptions {
   /// levels also try that start (PairwiseOptions::prediction_levels; ≤ 0: off). A limb that moves
   /// farther in a frame than the patch gate (a running stride) is matched where it went.
   double motion_prediction = 1.0;
+  /// … and also when the child is not the frame after parent and grandparent but costs (by `costs`)
+  /// at most this fraction of its cost to the parent from that frame: a twin a cycle apart of a
+  /// cyclic motion (0: next frames only).
+  double twin_prediction = 0.25;
   /// An edge whose parent is in another sequence than its child is also aligned from the most
   /// similar already aligned frame of up to this many other sequences (by `costs`); the attempt
   /// with the lowest mean residual is kept (0: the tree parent only).
