@@ -79,6 +79,8 @@ void add_alignment_options(CLI::App* cmd, RegisterCommands::State& state) {
   cmd->add_option("--feature-weight", p.feature_weight, "Weight of image feature matches (0: geometry only)");
   cmd->add_option("--coverage-weight", p.coverage_weight, "Weight of the coverage (reconstruction → template) pulls (0: off)");
   cmd->add_option("--flow-weight", p.flow.weight, "Weight of the appearance-flow targets (0: off)");
+  cmd->add_option("--flow-same-camera", p.flow.same_camera,
+                  "Render each camera's flow prediction from the same root camera where it sees the point");
   cmd->add_option("--flow-iterations", p.flow.iterations, "Appearance-flow iterations after the dense fit");
   cmd->add_option("--flow-patch-levels", p.flow.patch_levels, "Appearance flow also at the last N patch levels");
   cmd->add_option("--flow-stride", p.flow.stride, "Pixel step of the appearance-flow constraints");

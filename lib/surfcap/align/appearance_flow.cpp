@@ -146,12 +146,20 @@ TemplateAppearance::TemplateAppearance(const core::Mesh& root_surface, std::vect
   coverage_ = F_.rows() > 0 ? static_cast<double>(seen) / static_cast<double>(F_.rows()) : 0.0;
 }
 
-std::optional<double> TemplateAppearance::value(long face, const Eigen::Vector3d& b) const {
+std::optional<double> TemplateAppearance::value(long face, const Eigen::Vector3d& b, int only) const {
+  if (only >= 0) {
+    if (const auto own = sample(face, b, only)) return own;
+  }
+  return sample(face, b, -1);
+}
+
+std::optional<double> TemplateAppearance::sample(long face, const Eigen::Vector3d& b, int only) const {
   const Eigen::Vector3d x = b[0] * V_.row(F_(face, 0)).transpose() + b[1] * V_.row(F_(face, 1)).transpose() +
                             b[2] * V_.row(F_(face, 2)).transpose();
   const Eigen::Vector3d n = face_normals_.row(face).transpose();
   double sum = 0, weights = 0;
   for (std::size_t c = 0; c < cameras_.size(); ++c) {
+    if (only >= 0 && static_cast<int>(c) != only) continue;
     const render::Camera& camera = cameras_[c];
     const Eigen::Vector3d towards = camera.centre() - x;
     const double facing = n.dot(towards) / towards.norm();
@@ -217,7 +225,7 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
         if (std::abs(along) < 1e-9) continue;
         const Eigen::Vector3d hit = centre + ray * (normal.dot(a - centre) / along);
         barycentric[i] = geometry::barycentric_coordinates(hit, a, b, d);
-        const auto value = appearance.value(f, barycentric[i]);
+        const auto value = appearance.value(f, barycentric[i], options.same_camera ? static_cast<int>(c) : -1);
         if (!value) continue;
         predicted.pixels[i] = static_cast<float>(*value);
         valid[i] = static_cast<char>(-along >= options.min_facing ? 1 : 2);  // 2: shown, but too grazing to use

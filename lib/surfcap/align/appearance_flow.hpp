@@ -30,6 +30,7 @@ struct FlowOptions {
   double min_facing = 0.3;         ///< cosine between surface normal and view ray (root, template and child)
   double visibility_edges = 0.3;   ///< depth tolerance of the root cameras' visibility test (mean edges)
   double normal_compatibility = 0.5;  ///< cosine between the template's and the reconstruction's normals
+  bool same_camera = true;         ///< render each camera's prediction from the same root camera where it sees the point (false: the blend)
   void validate() const;
 };
 
@@ -58,12 +59,14 @@ class TemplateAppearance {
   TemplateAppearance(const core::Mesh& root_surface, std::vector<render::Camera> cameras,
                      std::vector<GreyImage> root_images, double mean_edge, const FlowOptions& options);
   /// Grey value of the template point (face, barycentric); nullopt where no root camera saw it.
-  std::optional<double> value(long face, const Eigen::Vector3d& barycentric) const;
+  /// With `camera` ≥ 0, that root camera's own sample where it sees the point (the blend elsewhere).
+  std::optional<double> value(long face, const Eigen::Vector3d& barycentric, int camera = -1) const;
   const std::vector<render::Camera>& cameras() const { return cameras_; }
   /// Fraction of template faces (at their centroids) seen by at least one root camera.
   double coverage() const { return coverage_; }
 
  private:
+  std::optional<double> sample(long face, const Eigen::Vector3d& barycentric, int only) const;
   Eigen::MatrixXd V_;
   Eigen::MatrixXi F_;
   Eigen::MatrixXd face_normals_;

@@ -200,7 +200,7 @@ core::Json PairwiseOptions::to_json() const {
           {"stacked_distance_edges", stacked_distance_edges}, {"stacked_rest_distance", stacked_rest_distance},
           {"crease_straightness", crease_straightness}, {"crease_target_straightness", crease_target_straightness},
           {"crease_straight_radius", crease_straight_radius},
-          {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels},
+          {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels}, {"same_camera", flow.same_camera},
                     {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
                     {"min_facing", flow.min_facing}, {"visibility_edges", flow.visibility_edges},
                     {"normal_compatibility", flow.normal_compatibility}}},

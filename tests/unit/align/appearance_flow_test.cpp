@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -74,6 +75,34 @@ TEST_F(AppearanceFlow, TargetsUndoASlidingErrorOfTheEstimate) {
   const FlowTargets again = flow_targets(root, estimate, scene_.rest.F, child_images, child, mean_edge(), options);
   EXPECT_EQ(again.pixels, flow.pixels);
   EXPECT_TRUE(again.targets == flow.targets);
+}
+
+TEST_F(AppearanceFlow, EachCamerasPredictionTakesThatRootCamerasOwnSample) {
+  // With a headlight (the synth's, and a studio's view-dependent effects) a point's grey value
+  // differs between cameras; camera c's prediction uses root camera c's sample where that camera
+  // sees the point, and the cos²-weighted blend of the others elsewhere.
+  const FlowOptions options;
+  const std::vector<render::Camera> cameras = capture_cameras(scene_.capture);
+  const std::vector<GreyImage> images = read_grey_images(scene_.capture, 0, 0);
+  const TemplateAppearance all(scene_.rest, cameras, images, mean_edge(), options);
+  const TemplateAppearance first(scene_.rest, {cameras[0]}, {images[0]}, mean_edge(), options);
+  const Eigen::Vector3d centre = Eigen::Vector3d::Constant(1.0 / 3.0);
+  long own = 0, blended = 0, differs = 0;
+  for (long f = 0; f < scene_.rest.F.rows(); ++f) {
+    const auto single = first.value(f, centre), preferred = all.value(f, centre, 0), blend = all.value(f, centre);
+    ASSERT_EQ(preferred.has_value(), blend.has_value()) << "face " << f;
+    if (single) {
+      EXPECT_EQ(*preferred, *single) << "face " << f;
+      ++own;
+      differs += std::abs(*blend - *single) > 1e-3 ? 1 : 0;
+    } else if (blend) {
+      EXPECT_EQ(*preferred, *blend) << "face " << f;
+      ++blended;
+    }
+  }
+  EXPECT_GT(own, scene_.rest.F.rows() / 5);
+  EXPECT_GT(blended, scene_.rest.F.rows() / 5);
+  EXPECT_GT(differs, own / 2) << "the blend must differ from one camera's sample where two cameras see a point";
 }
 
 TEST_F(AppearanceFlow, NoChildImagesGiveNoTargetsAndBadImagesAreBadInput) {
