@@ -146,10 +146,9 @@ TemplateAppearance::TemplateAppearance(const core::Mesh& root_surface, std::vect
   coverage_ = F_.rows() > 0 ? static_cast<double>(seen) / static_cast<double>(F_.rows()) : 0.0;
 }
 
-std::optional<double> TemplateAppearance::value(long face, const Eigen::Vector3d& b, int only) const {
-  if (only >= 0) {
-    if (const auto own = sample(face, b, only)) return own;
-  }
+std::optional<double> TemplateAppearance::value(long face, const Eigen::Vector3d& b, int camera) const {
+  if (camera >= 0)
+    if (const auto own = sample(face, b, camera)) return own;
   return sample(face, b, -1);
 }
 

@@ -30,7 +30,9 @@ struct FlowOptions {
   double min_facing = 0.3;         ///< cosine between surface normal and view ray (root, template and child)
   double visibility_edges = 0.3;   ///< depth tolerance of the root cameras' visibility test (mean edges)
   double normal_compatibility = 0.5;  ///< cosine between the template's and the reconstruction's normals
-  bool same_camera = true;         ///< render each camera's prediction from the same root camera where it sees the point (false: the blend)
+  /// Camera c's prediction takes root camera c's own sample where that camera saw the point (a point's
+  /// grey value differs between cameras under view-dependent lighting); false: the blend everywhere.
+  bool same_camera = true;
   void validate() const;
 };
 
@@ -66,6 +68,7 @@ class TemplateAppearance {
   double coverage() const { return coverage_; }
 
  private:
+  /// The blend over the root cameras that see the point, or only camera `only` (≥ 0).
   std::optional<double> sample(long face, const Eigen::Vector3d& barycentric, int only) const;
   Eigen::MatrixXd V_;
   Eigen::MatrixXi F_;
