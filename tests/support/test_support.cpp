@@ -1,5 +1,6 @@
 #include "test_support.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
 #include <unistd.h>
@@ -57,6 +58,15 @@ int count_hidden_files(const std::filesystem::path& directory) {
   for (const auto& entry : std::filesystem::directory_iterator(directory))
     if (entry.path().filename().string().front() == '.') ++count;
   return count;
+}
+
+double signed_volume(const core::Mesh& mesh) {
+  double volume = 0;
+  for (long f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    volume += a.dot(b.cross(c)) / 6.0;
+  }
+  return volume;
 }
 
 }  // namespace surfcap::testing

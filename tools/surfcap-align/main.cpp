@@ -11,6 +11,7 @@
 #include "surfcap/similarity/preview.hpp"
 #include "surfcap/similarity/similarity_files.hpp"
 #include "surfcap/similarity/tree_quality.hpp"
+#include "import_command.hpp"
 #include "register_command.hpp"
 
 namespace {
@@ -52,6 +53,7 @@ void run_histograms(const Arguments& args, const core::ToolApp& app) {
   similarity::write_histograms(args.out, set);
   report.figures()["frames"] = set.histograms.rows();
   report.figures()["histogram_bins"] = set.histograms.cols();
+  report.figures()["surfaces"] = similarity::surfaces_report(set);
   report.figures()["options"] = app.options_json();
   report.write(std::filesystem::path(args.out) / "report" / "histograms.json");
   spdlog::info("histograms of {} frames → {}/similarity/histograms.npy", set.histograms.rows(), args.out);
@@ -178,6 +180,7 @@ int main(int argc, char** argv) {
                    "Ground-truth aligned database.json: report the tree's quality ratio");
 
   const tools::RegisterCommands registration(app);  // register, run
+  const tools::ImportCommands imports(app);          // import-cameras, import-capture
 
   return app.run(argc, argv, [&] {
     if (*histograms) run_histograms(args, app);
@@ -185,5 +188,6 @@ int main(int argc, char** argv) {
     if (*merge) run_merge(args);
     if (*tree) run_tree(args, app);
     registration.run();
+    imports.run();
   });
 }

@@ -16,6 +16,7 @@
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_precheck.hpp"
+#include "surfcap/core/textured_obj.hpp"
 
 namespace surfcap::core {
 namespace {
@@ -143,6 +144,14 @@ Mesh read_and_validate(const std::filesystem::path& path, const std::string& ext
     if (!probe) throw io_error(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
   }
   const MeshFileCounts declared = precheck_mesh_file(path, extension, frame);
+  if (extension == ".obj") {
+    const std::string text = read_file(path);
+    if (obj_uses_materials(text)) {
+      Mesh mesh = read_textured_obj(path, text, frame);
+      validate_mesh(mesh, requirements, path, frame);
+      return mesh;
+    }
+  }
 
   OMMesh om;
   om.request_vertex_colors();

@@ -1,5 +1,6 @@
 #pragma once
-// Mesh files through OpenMesh: OBJ, PLY (binary and ASCII), OFF, with per-vertex colours and UVs.
+// Mesh files through OpenMesh: OBJ, PLY (binary and ASCII), OFF, with per-vertex colours and UVs;
+// textured OBJ (MTL + PNG) through core/textured_obj.
 
 #include <filesystem>
 #include <optional>
@@ -9,7 +10,9 @@
 namespace surfcap::core {
 
 /// Reads a mesh (format from the extension: .obj .ply .off), triangulating polygons as fans,
-/// and validates it against `requirements`. Errors name `path` and `frame`: io_error (4) when
+/// and validates it against `requirements`. An OBJ that uses materials (mtllib + usemtl) is read
+/// by read_textured_obj: welded by position, colours from its textures (core/textured_obj.hpp).
+/// Errors name `path` and `frame`: io_error (4) when
 /// the file cannot be read, bad_input (3) when it is truncated, corrupt or invalid.
 Mesh read_mesh(const std::filesystem::path& path, const MeshRequirements& requirements = {},
                std::optional<long> frame = std::nullopt);

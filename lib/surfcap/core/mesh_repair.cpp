@@ -18,6 +18,7 @@
 
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
+#include "surfcap/core/surface_topology.hpp"
 
 namespace surfcap::core {
 namespace {
@@ -170,37 +171,55 @@ Pieces find_pieces(SurfaceMesh& surface, const RepairLimits& limits, RepairRepor
   return pieces;
 }
 
-/// Fills the holes of every piece but debris; the new faces join the hole's piece.
+constexpr const char* kOpenSurfaceHint =
+    "; the alignment needs closed surfaces (histograms, similarity and tree read open ones)";
+
+/// Fills the holes of every piece but debris; the new faces join the hole's piece. Holes beyond
+/// the limits are refused, or left open with keep_large_holes_open.
 void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& input_vertices, const RepairLimits& limits,
                 RepairReport& report, const std::filesystem::path& source, std::optional<long> frame) {
   std::vector<SurfaceMesh::Halfedge_index> all, holes;
   PMP::extract_boundary_cycles(surface, std::back_inserter(all));
   for (const auto h : all)
     if (!pieces.debris[pieces.of[surface.face(surface.opposite(h))]]) holes.push_back(h);
-  if (static_cast<long>(holes.size()) > limits.max_holes)
+  const bool keep_open = limits.keep_large_holes_open;
+  if (!keep_open && static_cast<long>(holes.size()) > limits.max_holes)
     throw bad_input(source, "open surface with " + std::to_string(holes.size()) + " holes: too many to fill (up to " +
-                                std::to_string(limits.max_holes) + " are repaired)", frame);
+                                std::to_string(limits.max_holes) + " are repaired)" + kOpenSurfaceHint, frame);
   std::vector<long> sizes;
-  double largest_perimeter = 0;
+  std::vector<double> perimeters;
   for (const auto h : holes) {
     double perimeter = 0;
     for (const auto e : CGAL::halfedges_around_face(h, surface))
       perimeter += std::sqrt(CGAL::squared_distance(surface.point(surface.source(e)), surface.point(surface.target(e))));
     sizes.push_back(static_cast<long>(CGAL::halfedges_around_face(h, surface).size()));
-    largest_perimeter = std::max(largest_perimeter, perimeter);
+    perimeters.push_back(perimeter);
   }
-  const long largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
   const double diagonal = bounding_box_diagonal(input_vertices);
-  if (largest > limits.max_hole_edges || largest_perimeter > limits.max_hole_perimeter * diagonal) {
-    char figures[160];
-    std::snprintf(figures, sizeof figures, "a hole of %ld boundary edges, %.3g m around (%.0f%% of the bounding-box diagonal)",
-                  largest, largest_perimeter, 100 * largest_perimeter / diagonal);
-    char bounds[120];
-    std::snprintf(bounds, sizeof bounds, "holes of up to %ld edges and %.0f%% are repaired", limits.max_hole_edges,
-                  100 * limits.max_hole_perimeter);
-    throw bad_input(source, std::string("open surface with ") + figures + ": too large to fill (" + bounds + ")", frame);
+  auto large = [&](std::size_t k) {
+    return sizes[k] > limits.max_hole_edges || perimeters[k] > limits.max_hole_perimeter * diagonal;
+  };
+  if (!keep_open) {
+    const long largest = sizes.empty() ? 0 : *std::max_element(sizes.begin(), sizes.end());
+    const double largest_perimeter = perimeters.empty() ? 0 : *std::max_element(perimeters.begin(), perimeters.end());
+    if (largest > limits.max_hole_edges || largest_perimeter > limits.max_hole_perimeter * diagonal) {
+      char figures[160];
+      std::snprintf(figures, sizeof figures, "a hole of %ld boundary edges, %.3g m around (%.0f%% of the bounding-box diagonal)",
+                    largest, largest_perimeter, 100 * largest_perimeter / diagonal);
+      char bounds[120];
+      std::snprintf(bounds, sizeof bounds, "holes of up to %ld edges and %.0f%% are repaired", limits.max_hole_edges,
+                    100 * limits.max_hole_perimeter);
+      throw bad_input(source, std::string("open surface with ") + figures + ": too large to fill (" + bounds + ")" +
+                                  kOpenSurfaceHint, frame);
+    }
   }
   for (std::size_t k = 0; k < holes.size(); ++k) {
+    if (large(k)) {  // only with keep_large_holes_open
+      ++report.holes_open;
+      report.largest_open_hole_edges = std::max(report.largest_open_hole_edges, sizes[k]);
+      report.largest_open_hole_perimeter = std::max(report.largest_open_hole_perimeter, perimeters[k]);
+      continue;
+    }
     const std::size_t piece = pieces.of[surface.face(surface.opposite(holes[k]))];
     std::vector<SurfaceMesh::Face_index> added;
     PMP::triangulate_hole(surface, holes[k], std::back_inserter(added));
@@ -214,10 +233,10 @@ void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& inp
                       frame);
     for (const auto f : added) pieces.of[f] = piece;
     report.faces_added += static_cast<long>(added.size());
+    ++report.holes_filled;
+    report.largest_hole_edges = std::max(report.largest_hole_edges, sizes[k]);
+    report.largest_hole_perimeter = std::max(report.largest_hole_perimeter, perimeters[k]);
   }
-  report.holes_filled = static_cast<long>(holes.size());
-  report.largest_hole_edges = largest;
-  report.largest_hole_perimeter = largest_perimeter;
 }
 
 /// Faces of `surface` (minus debris) as a Mesh over the referenced vertices, in index order;
@@ -261,14 +280,19 @@ Mesh extract(const SurfaceMesh& surface, const Pieces& pieces, const Soup& soup,
   return mesh;
 }
 
-/// Reorientation follows the first face of each piece; a closed piece that ended up enclosing a
-/// negative volume is turned outward again.
+/// Reorientation follows the first face of each piece; a piece that ended up enclosing a
+/// negative volume is turned outward again (an open piece counts with its holes closed by fans).
 void orient_outward(Mesh& mesh, const std::vector<std::size_t>& piece) {
   const std::size_t count = piece.empty() ? 0 : *std::max_element(piece.begin(), piece.end()) + 1;
   std::vector<double> volume(count, 0.0);
-  for (long f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    volume[piece[static_cast<std::size_t>(f)]] += a.dot(b.cross(c)) / 6.0;
+  std::vector<std::size_t> vertex_piece(static_cast<std::size_t>(mesh.V.rows()), 0);
+  for (long f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) vertex_piece[static_cast<std::size_t>(mesh.F(f, k))] = piece[static_cast<std::size_t>(f)];
+  const Mesh closed = close_holes(mesh);  // the original faces first, then the fans over the holes
+  for (long f = 0; f < closed.F.rows(); ++f) {
+    const Eigen::Vector3d a = closed.V.row(closed.F(f, 0)), b = closed.V.row(closed.F(f, 1)), c = closed.V.row(closed.F(f, 2));
+    // A fan face belongs to the piece of its loop's vertices (corner 0 is one of them).
+    volume[vertex_piece[static_cast<std::size_t>(closed.F(f, 0))]] += a.dot(b.cross(c)) / 6.0;
   }
   for (long f = 0; f < mesh.F.rows(); ++f)
     if (volume[piece[static_cast<std::size_t>(f)]] < 0) std::swap(mesh.F(f, 1), mesh.F(f, 2));
@@ -294,6 +318,12 @@ std::string RepairReport::summary() const {
     parts.push_back("dropped " + std::to_string(debris_components) + " loose pieces (" + std::to_string(debris_faces) +
                     " faces)");
   if (vertices_dropped > 0) parts.push_back("dropped " + std::to_string(vertices_dropped) + " unreferenced vertices");
+  if (holes_open > 0) {
+    char figures[120];
+    std::snprintf(figures, sizeof figures, " (largest %ld edges, %.3g m around)", largest_open_hole_edges,
+                  largest_open_hole_perimeter);
+    parts.push_back("left " + std::to_string(holes_open) + " large hole" + (holes_open > 1 ? "s" : "") + " open" + figures);
+  }
   std::string text;
   for (const auto& part : parts) text += (text.empty() ? "" : ", ") + part;
   return text.empty() ? "nothing to repair" : text;
@@ -321,9 +351,10 @@ RepairReport repair_mesh(Mesh& mesh, const RepairLimits& limits, const std::file
   if (report.faces_reoriented > 0) orient_outward(repaired, piece);
 
   const MeshCheck after = check_mesh(repaired);
-  if (!after.closed() || !after.manifold() || count_pinch_vertices(repaired) > 0 || after.vertices == 0)
-    throw bad_input(source, "could not be repaired into a closed manifold surface (" + before.summary() +
-                                "; after repair: " + after.summary() + ")", frame);
+  const bool closed_enough = after.closed() || report.holes_open > 0;
+  if (!closed_enough || !after.manifold() || count_pinch_vertices(repaired) > 0 || after.vertices == 0)
+    throw bad_input(source, std::string("could not be repaired into a ") + (limits.keep_large_holes_open ? "" : "closed ") +
+                                "manifold surface (" + before.summary() + "; after repair: " + after.summary() + ")", frame);
   mesh = std::move(repaired);
   return report;
 }
@@ -337,6 +368,7 @@ Mesh read_reconstruction(const std::filesystem::path& path, std::optional<long> 
   Mesh mesh = read_mesh(path, tolerant, frame);
   const RepairReport repair = repair_mesh(mesh, limits, path, frame);
   if (repair.changed()) spdlog::warn("{}: repaired: {}", where(path, frame), repair.summary());
+  else if (repair.holes_open > 0) spdlog::info("{}: {}", where(path, frame), repair.summary());
   if (report) *report = repair;
   return mesh;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // Repair of captured reconstructions: small holes are filled and a few non-manifold edges and
 // vertices split, with a warning, so that one bad frame does not stop an alignment; a surface
-// beyond the limits stays a bad_input error. docs/formats.md "Reconstructions" is normative.
+// beyond the limits stays a bad_input error, except that stages which cope with open surfaces
+// keep large holes open. docs/formats.md "Reconstructions" is normative.
 
 #include <filesystem>
 #include <optional>
@@ -20,6 +21,10 @@ struct RepairLimits {
   long max_holes = 10;          ///< holes filled per mesh
   long max_non_manifold = 20;   ///< non-manifold edges (MeshCheck) + pinch vertices split per mesh
   long max_debris_faces = 8;    ///< pieces of at most this many faces, beside a larger one, are dropped
+  /// Holes beyond max_hole_edges / max_hole_perimeter stay open (counted in RepairReport) instead
+  /// of being refused, and any number of small holes is filled: for the stages that cope with
+  /// open surfaces (shape histograms, similarity, tree).
+  bool keep_large_holes_open = false;
 };
 
 /// What repair_mesh did.
@@ -35,6 +40,9 @@ struct RepairReport {
   long debris_components = 0;       ///< small loose pieces dropped
   long debris_faces = 0;
   long vertices_dropped = 0;        ///< unreferenced after repair (debris, or unused in the file)
+  long holes_open = 0;              ///< large holes left open (RepairLimits::keep_large_holes_open)
+  long largest_open_hole_edges = 0;
+  double largest_open_hole_perimeter = 0;  ///< metres
 
   bool changed() const;
   /// One line for the warning, e.g. "filled 2 holes (largest 7 edges, 9 faces added)".
@@ -45,7 +53,8 @@ struct RepairReport {
 /// `first`, when given, receives the first such vertex.
 long count_pinch_vertices(const Mesh& mesh, long* first = nullptr);
 
-/// Makes `mesh` a closed, edge- and vertex-manifold surface if its defects are within `limits`:
+/// Makes `mesh` a closed, edge- and vertex-manifold surface if its defects are within `limits`
+/// (with keep_large_holes_open: an edge- and vertex-manifold surface whose large holes stay open):
 /// faces are oriented consistently (CGAL orient_polygon_soup, which duplicates the vertices of
 /// non-manifold edges and pinch points), each hole is filled by a minimum-weight triangulation of
 /// its boundary loop without new vertices (CGAL triangulate_hole, Liepa 2003), small loose debris
@@ -57,7 +66,8 @@ RepairReport repair_mesh(Mesh& mesh, const RepairLimits& limits, const std::file
                          std::optional<long> frame = std::nullopt);
 
 /// Reads one captured reconstruction (read_mesh tolerating non-manifold, open and zero-area
-/// input), then repair_mesh; logs a warning naming the file and frame when it repaired anything.
+/// input), then repair_mesh; logs a warning naming the file and frame when it repaired anything
+/// (large holes left open are logged at info level: they are data).
 Mesh read_reconstruction(const std::filesystem::path& path, std::optional<long> frame = std::nullopt,
                          const RepairLimits& limits = {}, RepairReport* report = nullptr);
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/surface_topology.hpp"
 #include "surfcap/similarity/volume_sampling.hpp"
 
 namespace surfcap::similarity {
@@ -63,7 +64,7 @@ ShapeHistogramOptions ShapeHistogramOptions::from_json(const core::Json& json) {
 }
 
 Eigen::VectorXd shape_histogram(const core::Mesh& mesh, const ShapeHistogramOptions& options) {
-  const VolumeSampler sampler(mesh, options.voxel_size);
+  const VolumeSampler sampler(core::close_holes(mesh), options.voxel_size);
   // First pass: volume and centroid.
   double total = 0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();

@@ -31,8 +31,9 @@ struct ShapeHistogramOptions {
 
 /// The histogram of a closed surface: per cell [c0, √2·Re c1, √2·Im c1, …, √2·Re cM, √2·Im cM]
 /// with c_m = Σ_samples e^{-imφ} / total samples, so the vector's squared norm is the L2 norm
-/// of the angular density (Parseval) and the c0 entries sum to 1. bad_input if the surface
-/// encloses no grid cell (open or tiny mesh).
+/// of the angular density (Parseval) and the c0 entries sum to 1. An open surface is sampled with
+/// its holes closed (core::close_holes: a fan over each boundary loop, exact for planar cuts).
+/// bad_input if the surface encloses no grid cell (tiny or flat mesh).
 Eigen::VectorXd shape_histogram(const core::Mesh& mesh, const ShapeHistogramOptions& options);
 
 /// Best rotation about +y between two histograms: the angle α that rotating `b`'s shape by

@@ -86,11 +86,17 @@ HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogr
   }
   set.histograms.resize(static_cast<long>(jobs.size()), options.size());
   set.stance.assign(jobs.size(), 0.0);
+  set.surfaces.assign(jobs.size(), {});
+  core::RepairLimits limits;
+  limits.keep_large_holes_open = true;
   std::atomic<std::size_t> done{0};
   core::parallel_for(static_cast<long>(jobs.size()), threads, [&](long job) {
     const auto [sequence, frame] = jobs[static_cast<std::size_t>(job)];
     const auto path = capture.mesh_path(sequence, frame);
-    const core::Mesh mesh = core::read_reconstruction(path, frame);
+    core::RepairReport repair;
+    const core::Mesh mesh = core::read_reconstruction(path, frame, limits, &repair);
+    set.surfaces[static_cast<std::size_t>(job)] = {mesh.vertex_count(), mesh.face_count(), repair.holes_filled,
+                                                   core::surface_topology(mesh)};
     try {
       set.histograms.row(job) = shape_histogram(mesh, options).cast<float>().transpose();
       set.stance[static_cast<std::size_t>(job)] = stance_width(mesh);
@@ -100,6 +106,30 @@ HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogr
     if (progress) progress(++done, jobs.size());
   });
   return set;
+}
+
+core::Json surfaces_report(const HistogramSet& set) {
+  long open = 0, pieces = 0, genus = 0, changes = 0;
+  core::Json frames = core::Json::array();
+  std::size_t node = 0;
+  for (const auto& sequence : set.frames.sequences) {
+    for (int offset = 0; offset < sequence.count && node < set.surfaces.size(); ++offset, ++node) {
+      const FrameSurface& surface = set.surfaces[node];
+      const core::SurfaceTopology& topology = surface.topology;
+      open += topology.holes > 0;
+      pieces += topology.components > 1;
+      genus += topology.genus != 0;
+      if (offset > 0 && topology.genus != set.surfaces[node - 1].topology.genus) ++changes;
+      frames.push_back({{"frame", sequence.name + ":" + std::to_string(sequence.first + offset)},
+                        {"vertices", surface.vertices}, {"faces", surface.faces}, {"holes", topology.holes},
+                        {"largest_hole_edges", topology.largest_hole_edges},
+                        {"largest_hole_perimeter_m", topology.largest_hole_perimeter},
+                        {"holes_filled", surface.holes_filled}, {"components", topology.components},
+                        {"genus", topology.genus}});
+    }
+  }
+  return {{"open_frames", open}, {"multi_component_frames", pieces}, {"nonzero_genus_frames", genus},
+          {"genus_changes_between_consecutive_frames", changes}, {"frames", frames}};
 }
 
 void write_histograms(const std::filesystem::path& database, const HistogramSet& set) {

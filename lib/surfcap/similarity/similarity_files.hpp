@@ -11,6 +11,7 @@
 #include "surfcap/core/capture.hpp"
 #include "surfcap/core/json_document.hpp"
 #include "surfcap/core/progress.hpp"
+#include "surfcap/core/surface_topology.hpp"
 #include "surfcap/similarity/shape_histogram.hpp"
 #include "surfcap/similarity/similarity_matrix.hpp"
 #include "surfcap/similarity/spanning_tree.hpp"
@@ -35,6 +36,15 @@ struct FrameList {
   long node(const std::string& label) const;
 };
 
+/// One frame's reconstruction as the histograms saw it (after repair): holes left open, pieces,
+/// genus. Reported in report/histograms.json, not stored in histograms.json.
+struct FrameSurface {
+  long vertices = 0;
+  long faces = 0;
+  long holes_filled = 0;  ///< small holes the repair closed
+  core::SurfaceTopology topology;
+};
+
 struct HistogramSet {
   FrameList frames;
   ShapeHistogramOptions options;
@@ -43,6 +53,8 @@ struct HistogramSet {
   /// Per frame, stance_width of its mesh (the automatic template choice); empty when read from a
   /// histograms.json written before session 6.
   std::vector<double> stance;
+  /// Per frame, from compute_histograms only (empty when read from disk).
+  std::vector<FrameSurface> surfaces;
 };
 
 /// How far apart the feet are, as a fraction of the height: the extent of the lowest 15 % of the
@@ -52,9 +64,14 @@ double stance_width(const core::Mesh& mesh);
 
 /// Histograms of every frame of a capture, in parallel. Each frame's mesh is read and checked
 /// (non-manifold edges and small defects are tolerated with a warning; the volume sampling copes);
-/// errors name the file and frame.
+/// open surfaces (any hole size), several pieces and any genus are accepted and described in
+/// `surfaces`; errors (corrupt data) name the file and frame.
 HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogramOptions& options, int threads,
                                 const core::ProgressCallback& progress = {});
+
+/// The per-frame surfaces for report/histograms.json: counts of open, multi-piece and non-zero
+/// genus frames, genus changes between consecutive frames, and one entry per frame.
+core::Json surfaces_report(const HistogramSet& set);
 
 /// similarity/histograms.npy (float32 [N, B]) + similarity/histograms.json.
 void write_histograms(const std::filesystem::path& database, const HistogramSet& set);

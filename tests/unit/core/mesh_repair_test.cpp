@@ -18,15 +18,8 @@ namespace {
 
 using core::ExitCode;
 using testing::TemporaryDirectory;
-
-double signed_volume(const core::Mesh& mesh) {
-  double volume = 0;
-  for (long f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    volume += a.dot(b.cross(c)) / 6.0;
-  }
-  return volume;
-}
+using testing::expect_bad_input;
+using testing::signed_volume;
 
 /// The sphere without the faces around `vertex` (a hole whose loop is the vertex's neighbours).
 core::Mesh without_faces_around(const core::Mesh& mesh, std::vector<int> vertices) {
@@ -62,17 +55,6 @@ class CapturedWarnings {
   std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> sink_;
   std::shared_ptr<spdlog::logger> previous_;
 };
-
-template <class Action>
-void expect_bad_input(Action action, const std::string& needle) {
-  try {
-    action();
-    FAIL() << "expected bad_input containing '" << needle << "'";
-  } catch (const core::Error& e) {
-    EXPECT_EQ(e.code(), ExitCode::bad_input) << e.what();
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
 
 void expect_closed_manifold(const core::Mesh& mesh) {
   const core::MeshCheck check = core::check_mesh(mesh);
@@ -137,6 +119,43 @@ TEST(MeshRepair, LargeHoleStaysAnErrorNamingFileAndFrame) {
                    "% of the bounding-box diagonal): too large to fill");  // 6.3 m around: still too wide
   generous.max_hole_perimeter = 2.0;
   core::repair_mesh(mesh, generous, "walk/mesh/000012.ply", 12);
+  expect_closed_manifold(mesh);
+}
+
+TEST(MeshRepair, LargeHolesStayOpenWhereOpenSurfacesAreAccepted) {
+  const core::Mesh sphere = testing::make_sphere(40, 64);
+  std::vector<int> cut;  // the pole and rings 1..4 (a 64-edge hole) and the 6 faces around a vertex of ring 30
+  for (int v = 0; v <= 4 * 64; ++v) cut.push_back(v);
+  cut.push_back(1 + 29 * 64 + 9);
+  core::Mesh mesh = without_faces_around(sphere, cut);
+  core::Mesh strict = mesh;
+  expect_bad_input([&] { core::repair_mesh(strict, {}, "walk/mesh/000012.ply", 12); },
+                   "the alignment needs closed surfaces");
+  core::RepairLimits open;
+  open.keep_large_holes_open = true;
+  const auto report = core::repair_mesh(mesh, open, "walk/mesh/000012.ply", 12);
+  EXPECT_EQ(report.holes_filled, 1);
+  EXPECT_EQ(report.largest_hole_edges, 6);
+  EXPECT_EQ(report.holes_open, 1);
+  EXPECT_EQ(report.largest_open_hole_edges, 64);
+  EXPECT_NE(report.summary().find("left 1 large hole open (largest 64 edges"), std::string::npos) << report.summary();
+  const core::MeshCheck check = core::check_mesh(mesh);
+  EXPECT_EQ(check.boundary_edges, 64);
+  EXPECT_TRUE(check.manifold());
+  EXPECT_EQ(core::count_pinch_vertices(mesh), 0);
+}
+
+TEST(MeshRepair, ManySmallHolesAreFilledWhereOpenSurfacesAreAccepted) {
+  const core::Mesh sphere = testing::make_sphere(40, 48);
+  std::vector<int> centres;
+  for (int r = 4; r < 37; r += 7)
+    for (int s = 0; s < 48; s += 16) centres.push_back(1 + (r - 1) * 48 + s);  // 15 separate hexagons
+  core::Mesh mesh = without_faces_around(sphere, centres);
+  core::RepairLimits open;
+  open.keep_large_holes_open = true;
+  const auto report = core::repair_mesh(mesh, open, "f.ply");
+  EXPECT_EQ(report.holes_filled, 15);
+  EXPECT_EQ(report.holes_open, 0);
   expect_closed_manifold(mesh);
 }
 

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/similarity/shape_histogram.hpp"
 #include "surfcap/similarity/volume_sampling.hpp"
 #include "test_support.hpp"
@@ -90,7 +91,35 @@ TEST(ShapeHistogram, FftAndExhaustiveSearchAgree) {
   EXPECT_NEAR(std::abs(fft.angle), 1.3, 0.1);  // recovers the rotation
 }
 
-TEST(ShapeHistogram, OpenOrTinySurfaceIsBadInput) {
+TEST(ShapeHistogram, OpenSurfaceIsSampledWithItsHolesClosed) {
+  // An ellipsoid cut flat below (the south pole and the last 8 rings removed: open "soles").
+  const int rings = 40, segments = 64;
+  core::Mesh closed = testing::make_sphere(rings, segments, 1.0);
+  closed.V = closed.V * Eigen::Vector3d(0.3, 0.85, 0.2).asDiagonal();
+  const int first_cut = 1 + (rings - 9) * segments;  // ring 32 and below lose their faces
+  const core::Mesh open =
+      testing::with_faces(closed, [&](long f) { return closed.F.row(f).maxCoeff() < first_cut + segments; });
+  ASSERT_EQ(core::check_mesh(open).boundary_edges, segments);
+  // The same cut closed by the reconstruction repair (CGAL's minimum-weight triangulation of the
+  // flat loop) encloses the same region: the histograms agree.
+  core::Mesh repaired = open;
+  core::RepairLimits generous;
+  generous.max_hole_edges = 100;
+  generous.max_hole_perimeter = 2.0;
+  core::repair_mesh(repaired, generous, "cut.ply");
+  ASSERT_TRUE(core::check_mesh(repaired).closed());
+  const ShapeHistogramOptions options;
+  const Eigen::VectorXd a = similarity::shape_histogram(open, options), b = similarity::shape_histogram(repaired, options);
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-6);
+  // Sampled as it is, the open surface would lose the columns above its sole (the winding rule never
+  // enters through the missing sole).
+  double as_is = 0, with_holes_closed = 0;
+  similarity::VolumeSampler(open, 0.01).visit([&](double, double, double, double w) { as_is += w; });
+  similarity::VolumeSampler(repaired, 0.01).visit([&](double, double, double, double w) { with_holes_closed += w; });
+  EXPECT_LT(as_is, 0.7 * with_holes_closed);
+}
+
+TEST(ShapeHistogram, TinySurfaceIsBadInput) {
   core::Mesh tiny = testing::make_sphere(6, 8, 0.001);
   EXPECT_THROW(similarity::shape_histogram(tiny, {}), core::Error);
 }
