@@ -19,7 +19,7 @@
 namespace surfcap::core {
 namespace {
 
-constexpr int kMaxTextureSide = 16384;
+constexpr int kMaxTextureSide = 8192;  // 8192² RGB: 200 MB decoded, twice while converting
 
 struct Material {
   std::optional<Eigen::Vector3d> diffuse;  // Kd
