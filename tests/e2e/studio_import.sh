@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # surfcap-align import-cameras / import-capture on what a studio hands over, made from the
 # synthetic tiny capture: its cameras as a COLMAP text model and as OpenCV YAML come back as the
-# same cameras.json calibration; its frames as a folder of numbered meshes become a capture.json
-# whose histograms are byte-identical to the original's; bad folders give the documented exit codes.
+# same cameras.json calibration; its frames as a folder of numbered meshes (PLY, and textured OBJ
+# with seams) become a capture.json whose histograms are byte-identical to the original's; bad
+# folders give the documented exit codes.
 # Usage: bash studio_import.sh <build_dir> <source_dir>
 set -euo pipefail
 build=$1
@@ -107,6 +108,74 @@ assert [s["name"] for s in capture["sequences"]] == ["run", "walk"], capture
 assert capture["sequences"][0]["frames"] == "run/run_{frame}.ply", capture
 assert all(studio[label] == synth[label] for label in studio), "histograms differ"
 print(f"imported capture: {len(studio)} frames, histograms byte-identical to the original capture's")
+PY
+
+# The walk frames as textured OBJ (OBJ + MTL + PNG atlas of the vertex colours: two charts split at
+# x = 0, per-corner UVs, the seam vertices' positions written twice): the same histograms.
+python3 - "$work/capture/walk/mesh" "$work/studio_obj/walk/mesh" <<'PY'
+import glob, os, struct, sys, zlib
+source, target = sys.argv[1], sys.argv[2]
+os.makedirs(target)
+types = {"float": "f", "double": "d", "uchar": "B", "int": "i", "uint": "I"}
+def png(path, width, height, texels):
+    rows = b"".join(b"\x00" + bytes(texels[y * width * 3:(y + 1) * width * 3]) for y in range(height))
+    chunk = lambda kind, data: struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+                           chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+for path in sorted(glob.glob(os.path.join(source, "*.ply"))):
+    raw = open(path, "rb").read()
+    end = raw.index(b"end_header\n") + len(b"end_header\n")
+    header = raw[:end].decode().split("\n")
+    nv = int([l for l in header if l.startswith("element vertex")][0].split()[2])
+    nf = int([l for l in header if l.startswith("element face")][0].split()[2])
+    props, vertex = [], False
+    for l in header:
+        if l.startswith("element"): vertex = l.startswith("element vertex")
+        elif l.startswith("property") and vertex: props.append(l.split())
+    fmt = "<" + "".join(types[p[1]] for p in props)
+    size, names = struct.calcsize(fmt), [p[2] for p in props]
+    rows = [struct.unpack_from(fmt, raw, end + i * size) for i in range(nv)]
+    xyz = [tuple(r[names.index(k)] for k in "xyz") for r in rows]
+    rgb = [tuple(r[names.index(k)] for k in ("red", "green", "blue")) for r in rows]
+    pos, faces = end + nv * size, []
+    for _ in range(nf):
+        n = raw[pos]; faces.append(struct.unpack_from("<%di" % n, raw, pos + 1)); pos += 1 + 4 * n
+    chart = [0 if sum(xyz[v][0] for v in f) < 0 else 1 for f in faces]
+    slot = {}
+    for f, c in zip(faces, chart):
+        for v in f: slot.setdefault((v, c), len(slot))
+    width = 64; height = (len(slot) + width - 1) // width
+    texels = [255, 0, 255] * (width * height)
+    for (v, c), s in slot.items(): texels[3 * s:3 * s + 3] = rgb[v]
+    stem = os.path.basename(path)[:-4]
+    png(os.path.join(target, stem + ".png"), width, height, texels)
+    open(os.path.join(target, stem + ".mtl"), "w").write(f"newmtl skin\nKd 1 1 1\nmap_Kd {stem}.png\n")
+    seam = [v for v in range(nv) if (v, 0) in slot and (v, 1) in slot]
+    copy = {v: nv + k for k, v in enumerate(seam)}
+    lines = [f"mtllib {stem}.mtl"] + ["v %r %r %r" % p for p in xyz] + ["v %r %r %r" % xyz[v] for v in seam]
+    by_slot = sorted(slot.items(), key=lambda item: item[1])
+    lines += ["vt %r %r" % ((s % width + 0.5) / width, 1 - (s // width + 0.5) / height) for _, s in by_slot]
+    lines.append("usemtl skin")
+    for f, c in zip(faces, chart):
+        lines.append("f " + " ".join(f"{(copy[v] if c == 1 and v in copy else v) + 1}/{slot[(v, c)] + 1}" for v in f))
+    open(os.path.join(target, stem + ".obj"), "w").write("\n".join(lines) + "\n")
+PY
+"$align" import-capture --folder "$work/studio_obj" --log-level warn
+"$align" histograms --capture "$work/studio_obj" --out "$work/db_obj" --log-level warn
+python3 - "$work" <<'PY'
+import json, sys
+work = sys.argv[1]
+def rows(db):
+    meta = json.load(open(f"{work}/{db}/similarity/histograms.json"))
+    data = open(f"{work}/{db}/similarity/histograms.npy", "rb").read()
+    body = data[10 + int.from_bytes(data[8:10], "little"):]
+    labels = [f"{s['name']}:{s['first'] + k}" for s in meta["sequences"] for k in range(s["count"])]
+    size = len(body) // len(labels)
+    return {label: body[i * size:(i + 1) * size] for i, label in enumerate(labels)}
+obj, synth = rows("db_obj"), rows("db_synth")
+assert json.load(open(f"{work}/studio_obj/capture.json"))["sequences"][0]["frames"] == "walk/mesh/{frame:06d}.obj"
+assert len(obj) == 24 and all(obj[label] == synth[label] for label in obj), "textured OBJ histograms differ"
+print(f"textured OBJ form: {len(obj)} frames, histograms byte-identical to the PLY form's")
 PY
 
 # Bad folders: capture.json exists (exit 2), a gap in the numbers and an unknown COLMAP model (exit 3).
