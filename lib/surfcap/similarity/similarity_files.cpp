@@ -1,6 +1,7 @@
 #include "surfcap/similarity/similarity_files.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <spdlog/spdlog.h>
 #include <atomic>
 #include <limits>
 #include <map>
@@ -105,6 +106,16 @@ HistogramSet compute_histograms(const core::Capture& capture, const ShapeHistogr
     }
     if (progress) progress(++done, jobs.size());
   });
+  long open = 0, pieces = 0, genus = 0, largest = 0;
+  for (const FrameSurface& surface : set.surfaces) {
+    open += surface.topology.holes > 0;
+    pieces += surface.topology.components > 1;
+    genus += surface.topology.genus != 0;
+    largest = std::max(largest, surface.topology.largest_hole_edges);
+  }
+  if (open + pieces + genus > 0)
+    spdlog::info("of {} frames, {} are open (largest hole left open: {} edges), {} have several pieces, {} have "
+                 "genus > 0 (report/histograms.json \"surfaces\")", jobs.size(), open, largest, pieces, genus);
   return set;
 }
 
