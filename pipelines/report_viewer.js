@@ -62,8 +62,11 @@ function play(index) {
 }
 
 async function load(id, label) {
-  const gltf = await loader.parseAsync(bytesOf(id), '');
+  const bytes = bytesOf(id);
+  const start = performance.now();
   await MeshoptDecoder.ready;
+  const gltf = await loader.parseAsync(bytes, '');
+  const parseMs = performance.now() - start;
   let mesh = null;
   gltf.scene.traverse((object) => { if (object.isMesh && !mesh) mesh = object; });
   const morphTargets = mesh && mesh.morphTargetInfluences ? mesh.morphTargetInfluences.length : 0;
@@ -71,7 +74,8 @@ async function load(id, label) {
   status.loaded.push({ file: label, morphTargets, animations: gltf.animations.length,
                        normals, flatShading: mesh ? Boolean(mesh.material.flatShading) : null,
                        vertexColors: mesh ? Boolean(mesh.material.vertexColors) : null,
-                       fps: (gltf.scene.userData || {}).fps ?? null });
+                       fps: (gltf.scene.userData || {}).fps ?? null, bytes: bytes.byteLength,
+                       parseMs: Math.round(parseMs) });
   scene.add(gltf.scene);
   gltf.scene.visible = false;
   const mixer = new THREE.AnimationMixer(gltf.scene);

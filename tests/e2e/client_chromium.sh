@@ -23,10 +23,10 @@ trap 'rm -rf "$work"' EXIT
 
 "$build/tools/surfcap-synth" --preset tiny --seed 1 --no-images --out "$work/capture" --log-level warn
 start=$(date +%s)
-pipeline_make "$work" DATABASE=truth BLOCKS=1 THREADS=2 SPACES_OPTIONS="--sweep-mm 5 --validation-samples 2" \
-  THREE="$build/cache/three" -j2 character previews report > "$work/make.log"
+pipeline_make "$work/run" DATABASE=truth BLOCKS=1 THREADS=2 SPACES_OPTIONS="--sweep-mm 5 --validation-samples 2" \
+  THREE="$build/cache/three" -j2 character previews report > "$work/make.log" || { tail -20 "$work/make.log"; exit 1; }
 echo "pipeline + report: $(( $(date +%s) - start )) s"
-page=$work/out/report/index.html
+page=$work/run/out/report/index.html
 test -s "$page"
 grep -q "Content-Security-Policy" "$page"
 ! grep -qE "(src|href)=\"(https?:)?//" "$page" || { echo "index.html refers to the network"; exit 1; }
@@ -37,7 +37,7 @@ chrome=(chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first
 timeout 180 "${chrome[@]}" --user-data-dir="$work/profile-dom" --dump-dom "file://$page" > "$work/dom.html" 2> "$work/chromium.log"
 timeout 180 "${chrome[@]}" --user-data-dir="$work/profile-shot" --screenshot="$work/screenshot.png" "file://$page" \
   >> "$work/chromium.log" 2>&1
-python3 - "$work/dom.html" "$work/out/report/export.json" "$work/out/previews/report.json" "$work/screenshot.png" <<'PY'
+python3 - "$work/dom.html" "$work/run/out/report/export.json" "$work/run/out/previews/report.json" "$work/screenshot.png" <<'PY'
 import html, json, os, re, sys
 dom, export, play, screenshot = sys.argv[1:]
 match = re.search(r'<pre id="viewer-status">(.*?)</pre>', open(dom, encoding="utf-8").read(), re.S)
