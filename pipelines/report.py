@@ -41,7 +41,7 @@ def table(header, rows):
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
-def line_plot(series, y_label, width=900, height=260):
+def line_plot(series, y_label, x_label="frame (tree order)", width=900, height=260):
     """Inline SVG of named series of (x, y) points sharing one axis."""
     points = [p for _, values, _ in series for p in values]
     if not points:
@@ -57,12 +57,12 @@ def line_plot(series, y_label, width=900, height=260):
     for k in range(5):
         y = y_max * k / 4
         parts.append(f'<text x="{left - 6}" y="{sy(y) + 4:.1f}" text-anchor="end" font-size="11">{y:.3g}</text>')
-    parts.append(f'<text x="{left}" y="{height - 8}" font-size="11">frame (tree order) 0 … {x_max}</text>')
+    parts.append(f'<text x="{left}" y="{height - 8}" font-size="11">{esc(x_label)} 0 … {x_max}</text>')
     parts.append(f'<text x="{left + 6}" y="20" font-size="12">{esc(y_label)}</text>')
     for index, (name, values, colour) in enumerate(series):
         path = " ".join(f"{sx(x):.1f},{sy(y):.1f}" for x, y in values)
         parts.append(f'<polyline fill="none" stroke="{colour}" stroke-width="1.5" points="{path}"/>')
-        parts.append(f'<text x="{width - 200}" y="{22 + 14 * index}" font-size="11" fill="{colour}">{esc(name)}</text>')
+        parts.append(f'<text x="{width - 200}" y="{24 + 16 * index}" font-size="12" fill="{colour}">{esc(name)}</text>')
     parts.append("</svg>")
     return "".join(parts)
 
@@ -88,7 +88,8 @@ def alignment_section(out):
                      f"worst frame {esc(truth.get('worst_frame'))} {number(truth.get('worst_frame_rms_percent_height'))} %.</p>")
         depth = [(d["depth"], d["rms_percent_height"]) for d in truth.get("by_depth", [])]
         if depth:
-            parts.append(line_plot([("RMS % of height", depth, "#2d9d4f")], "ground-truth RMS by tree depth, % of height"))
+            parts.append(line_plot([("RMS % of height", depth, "#2d9d4f")], "ground-truth RMS by tree depth, % of height",
+                                  "depth in the similarity tree"))
     return "".join(parts)
 
 
