@@ -8,10 +8,12 @@
 # database, for synthetic captures), BLOCKS (similarity row blocks), THREADS (per step),
 # SUBMIT (command prefix of the heavy steps, e.g. `srun -c 2`), CONTROL (playback script), NAME,
 # BIN (the surfcap executables), TRACK_TOOLS (yes: a rebuilt executable redoes its steps),
-# LOG_LEVEL and <STAGE>_OPTIONS (extra options per tool).
+# LOG_LEVEL and <STAGE>_OPTIONS (extra options per tool), THREE (where scripts/vendor_three.sh
+# puts the three.js package the report's viewer inlines).
 #
 # Targets: all (default: character + previews), alignment, similarity, parts, spaces, graph,
-# transitions, character, previews, summary, clean, tidy.
+# transitions, character, previews, summary, report (OUT/report/index.html: every figure,
+# the previews and a 3D viewer in one self-contained page), clean, tidy.
 #
 # Every step writes through temporary names and renames (docs/cli.md "Outputs"); a step that
 # fails or is killed has its targets removed (.DELETE_ON_ERROR), so the next make redoes it, and
@@ -42,12 +44,13 @@ SPACES_OPTIONS ?=
 TRANSITIONS_OPTIONS ?=
 EXPORT_OPTIONS ?=
 PLAY_OPTIONS ?=
+THREE ?= $(SURFCAP)/build/cache/three
 
 ifeq ($(strip $(OUT)),)
 $(error character.mk: OUT must not be empty)
 endif
-# summary, tidy and clean need only OUT; every other goal reads the inputs.
-INPUTS_NEEDED := $(if $(MAKECMDGOALS),$(filter-out summary tidy clean,$(MAKECMDGOALS)),all)
+# summary, report, tidy and clean need only OUT; every other goal reads the inputs.
+INPUTS_NEEDED := $(if $(MAKECMDGOALS),$(filter-out summary report tidy clean,$(MAKECMDGOALS)),all)
 ifneq ($(INPUTS_NEEDED),)
 ifeq ($(strip $(CAPTURE)),)
 $(error character.mk: set CAPTURE=<capture folder> (see docs/pipelines.md))
@@ -112,7 +115,7 @@ TRANSITION_FILES := $(foreach e,$(EDGES),$(M)/transitions/$(e).npy)
 CHARACTER := $(OUT)/$(NAME).glb
 PREVIEWS := $(V)/animation.glb $(V)/contact_sheet.png
 
-.PHONY: all alignment similarity parts spaces graph transitions character previews clean tidy summary
+.PHONY: all alignment similarity parts spaces graph transitions character previews clean tidy summary report
 all: character previews
 alignment: $(ALIGNED)
 similarity: $(TREE)
@@ -127,6 +130,10 @@ clean:
 # Quality figures, wall time per stage and where the results are (pipelines/summary.py).
 summary:
 	@python3 $(SURFCAP)/pipelines/summary.py $(OUT) --name $(NAME)
+# The run report: one self-contained page; made after the other goals of the same command.
+report: $(filter-out report summary tidy clean,$(MAKECMDGOALS))
+	@bash $(SURFCAP)/scripts/vendor_three.sh $(THREE)
+	@python3 $(SURFCAP)/pipelines/report.py $(OUT) --name $(NAME) --three $(THREE)
 # Temporary files a killed step left (.<name>.tmp-<pid>-<n>); only while no step runs.
 tidy:
 	find $(OUT) -name '.*.tmp-*' -print -delete

@@ -42,11 +42,13 @@ t=$(date +%s)
 make --no-print-directory -f pipelines/character.mk -j "$jobs" CAPTURE="$out/capture" \
   GRAPH=configs/graphs/demo.json OUT="$out" DATABASE="$database" THREADS="$threads" \
   ${SUBMIT:+SUBMIT="$SUBMIT"} PLAY_OPTIONS="--check-exact 5" TREE_OPTIONS="--root ${ROOT:-walk:0}" all alignment
+make --no-print-directory -f pipelines/character.mk OUT="$out" report > /dev/null
 pipeline_s=$(( $(date +%s) - t ))
 
 echo
 echo "demo: summary ($out)"
 python3 pipelines/summary.py "$out" --json "$out/report/summary.json"
 echo "  set-up ${setup_s} s, synth ${synth_s} s, pipeline ${pipeline_s} s; total $(( $(date +%s) - start )) s"
+echo "demo: the run report is $out/report/index.html (figures, previews and a 3D viewer; open it in a browser)"
 echo "demo: the character is $out/character.glb (open it in Blender or https://gltf-viewer.donmccurdy.com),"
 echo "      its playback $out/previews/animation.glb and $out/previews/contact_sheet.png"

@@ -35,7 +35,7 @@ packages=(
   build-essential cmake pkg-config git
   libeigen3-dev libopenmesh-dev libopencv-dev libflann-dev libcgal-dev libtet1.5-dev
   libcli11-dev libspdlog-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libtinygltf-dev libsuitesparse-dev libtbb-dev strace
+  libtinygltf-dev libmeshoptimizer-dev libsuitesparse-dev libtbb-dev strace
 )
 missing=()
 for package in "${packages[@]}"; do

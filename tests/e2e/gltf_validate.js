@@ -1,6 +1,6 @@
 // Runs the Khronos glTF-Validator on .glb files: node gltf_validate.js MODULES_DIR FILE...
 // Prints one line per file (errors, warnings, infos, hints and the error messages) and exits 1
-// when any file has an error.
+// when any file has an error or a warning.
 const path = require('path');
 const fs = require('fs');
 const validator = require(path.resolve(process.argv[2], 'node_modules', 'gltf-validator'));
@@ -23,7 +23,7 @@ async function main() {
       counts[key] = (counts[key] || 0) + 1;
     }
     for (const [key, n] of Object.entries(counts)) console.log(`  ${n} × ${key}`);
-    if (issues.numErrors > 0) failed = true;
+    if (issues.numErrors > 0 || issues.numWarnings > 0) failed = true;
   }
   process.exit(failed ? 1 : 0);
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The Khronos glTF-Validator (npm gltf-validator, run through Node) on what surfcap writes:
-# character.glb exported by surfcap-export from the synthetic tiny build, animation.glb of
-# surfcap-play (or of asset::write_animation_glb, the seed in tests/fuzz/corpus/glb, when
-# surfcap-play is not built), and the writer's seed files. Every file must have 0 errors.
+# character.glb exported by surfcap-export from the synthetic tiny build in both forms
+# (compressed and --uncompressed), animation.glb of surfcap-play in both forms (or of
+# asset::write_animation_glb, the seed in tests/fuzz/corpus/glb, when surfcap-play is not
+# built), and the reader's seed files. Every file must have 0 errors and 0 warnings.
 # The validator is installed into <build>/cache/gltf-validator on first use.
 # Usage: bash gltf_validator.sh <build_dir> <source_dir>
 set -euo pipefail
@@ -46,7 +47,18 @@ print("export:", content["file_bytes"], "bytes,", content["morph_targets"], "mor
       len(content["spaces"]), "spaces,", len(content.get("transitions", [])), "transitions,",
       "%.3f s" % report["timings_s"]["write"])
 PY
-  files+=("$work/character.glb")
+  "$export_tool" --database "$database" --graph "$work/out/graph.json" --output "$work/character_plain.glb" \
+    --report "$work/export_plain.json" --uncompressed
+  python3 - "$work/export.json" "$work/export_plain.json" <<'PY'
+import json, sys
+small, large = (json.load(open(path)) for path in sys.argv[1:])
+assert small["content"]["compressed"] and not large["content"]["compressed"]
+assert large["round_trip_identical"], "the uncompressed form does not read back to the same bytes"
+ratio = large["content"]["file_bytes"] / small["content"]["file_bytes"]
+print(f"compressed {small['content']['file_bytes']} bytes, uncompressed {large['content']['file_bytes']} bytes: {ratio:.2f}x")
+assert ratio > 2, "the compressed form is not smaller"
+PY
+  files+=("$work/character.glb" "$work/character_plain.glb")
   # The same command gives the same bytes (the options, output path included, are the provenance).
   cp "$work/character.glb" "$work/first.glb"
   "$export_tool" --database "$database" --graph "$work/out/graph.json" --output "$work/character.glb" \
@@ -66,7 +78,10 @@ PY
   play=$build/tools/surfcap-play
   if [[ -x $play ]]; then
     if "$play" --threads 2 --character "$work/character.glb" --script "$source/configs/control/tiny_timeline.json" --output "$work/play" > "$work/play.log" 2>&1; then
-      files+=("$work/play/animation.glb")
+      "$play" --threads 2 --character "$work/character.glb" --script "$source/configs/control/tiny_timeline.json" \
+        --output "$work/play_plain" --uncompressed > "$work/play_plain.log" 2>&1
+      cp "$work/play_plain/animation.glb" "$work/animation_plain.glb"
+      files+=("$work/play/animation.glb" "$work/animation_plain.glb")
     else
       echo "surfcap-play failed:"; tail -5 "$work/play.log"; exit 1
     fi

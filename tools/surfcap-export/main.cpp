@@ -24,7 +24,7 @@ core::Json content_figures(const asset::Character& character, const asset::GlbSu
                         {"buffer_bytes", summary.buffer_bytes}, {"accessors", summary.accessors},
                         {"morph_targets", summary.morph_targets}, {"animations", summary.animations},
                         {"vertices", character.vertex_count()}, {"faces", character.template_mesh.face_count()},
-                        {"texture", !character.texture_png.empty()}, {"parts", character.parts ? character.parts->parts.size() : 0}};
+                        {"texture", !character.texture_png.empty()}, {"compressed", summary.compressed}, {"parts", character.parts ? character.parts->parts.size() : 0}};
   for (const auto& s : character.sequences) figures["sequences"].push_back({{"name", s.name}, {"frames", s.frame_count()}});
   for (const auto& s : character.spaces)
     figures["spaces"].push_back({{"name", s.name}, {"frames", s.frames}, {"nodes", s.node_count()},
@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   CLI::App& cli = app.cli();
   asset::CharacterInputs inputs;
   std::string output, report_path, preview_path;
+  asset::GlbWriteOptions write_options;
+  bool uncompressed = false;
   cli.add_option("--database", inputs.database, "aligned database (database.json)")->required();
   cli.add_option("--graph", inputs.graph, "graph.json of surfcap-precompute (transitions/ beside it)")->required();
   cli.add_option("--parts", inputs.parts, "parts.json of surfcap-learn (optional)");
@@ -48,6 +50,8 @@ int main(int argc, char** argv) {
   cli.add_option("--name", inputs.name, "character name")->capture_default_str();
   cli.add_option("--report", report_path, "report JSON (default: <output dir>/report/export.json)");
   cli.add_option("--preview", preview_path, "preview PNG (default: <output without .glb>.png)");
+  cli.add_flag("--uncompressed", uncompressed,
+               "float32 accessors only, frames exact (no KHR_mesh_quantization / EXT_meshopt_compression)");
   return app.run(argc, argv, [&] {
     const fs::path glb = output;
     if (glb.extension() != ".glb") throw core::bad_arguments("--output must name a .glb file: " + output);
@@ -62,13 +66,14 @@ int main(int argc, char** argv) {
     asset::GlbSummary summary;
     {
       auto timer = report.time("write");
-      summary = asset::write_character_glb(glb, character);
+      write_options.compress = !uncompressed;
+      summary = asset::write_character_glb(glb, character, write_options);
     }
     {
       // The file must read back to the same bytes: reader and writer agree (docs/formats.md).
       auto timer = report.time("verify");
       report.figures()["round_trip_identical"] =
-          asset::character_glb_bytes(asset::read_character_glb(glb)) == core::read_file(glb);
+          asset::character_glb_bytes(asset::read_character_glb(glb), write_options) == core::read_file(glb);
     }
     const fs::path preview = preview_path.empty() ? fs::path(glb).replace_extension(".png") : fs::path(preview_path);
     {

@@ -24,8 +24,11 @@ asset::Character load_character(const CharacterSource& source) {
 }
 
 void write_animation(const std::filesystem::path& path, const core::Mesh& template_mesh,
-                     const std::vector<Eigen::MatrixXd>& frames, double fps, const std::string& name) {
-  asset::write_animation_glb(path, template_mesh, frames, fps, name);
+                     const std::vector<Eigen::MatrixXd>& centred_frames, const std::vector<core::RootMotion>& root_motion,
+                     double fps, const std::string& name, bool compress) {
+  asset::GlbWriteOptions options;
+  options.compress = compress;
+  asset::write_animation_glb(path, template_mesh, centred_frames, root_motion, fps, name, options);
 }
 
 }  // namespace surfcap::tools

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "surfcap/asset/character.hpp"
+#include "surfcap/core/database.hpp"
 
 namespace surfcap::tools {
 
@@ -21,8 +22,10 @@ struct CharacterSource {
 void add_character_options(CLI::App& app, CharacterSource& source);
 asset::Character load_character(const CharacterSource& source);
 
-/// DIR/animation.glb: the template mesh with one morph-target animation of the world-space frames.
+/// DIR/animation.glb: the template mesh with one morph-target animation of the centred frames and
+/// the root motion on its node.
 void write_animation(const std::filesystem::path& path, const core::Mesh& template_mesh,
-                     const std::vector<Eigen::MatrixXd>& frames, double fps, const std::string& name);
+                     const std::vector<Eigen::MatrixXd>& centred_frames, const std::vector<core::RootMotion>& root_motion,
+                     double fps, const std::string& name, bool compress);
 
 }  // namespace surfcap::tools

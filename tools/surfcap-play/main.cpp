@@ -31,6 +31,7 @@ struct PlayArguments {
   std::vector<std::string> study_edges;
   int study_repeats = 100;
   double study_latency_weight = 5.0;
+  bool uncompressed = false;
 };
 
 core::Json transition_json(const runtime::TransitionRecord& record) {
@@ -86,7 +87,8 @@ void play(const asset::Character& character, const PlayArguments& arguments, cor
     auto timer = report.time("exact_setup");
     exact = std::make_unique<runtime::ExactBlend>(character, threads);
   }
-  std::vector<Eigen::MatrixXd> frames;
+  std::vector<Eigen::MatrixXd> frames, centred_frames;
+  std::vector<core::RootMotion> root_motion;
   std::vector<runtime::FrameState> states;
   double max_error = 0;
   long checked = 0;
@@ -98,6 +100,11 @@ void play(const asset::Character& character, const PlayArguments& arguments, cor
       Eigen::MatrixXd mesh(static_cast<long>(world.size() / 3), 3);
       for (long v = 0; v < mesh.rows(); ++v) mesh.row(v) << world[v * 3], world[v * 3 + 1], world[v * 3 + 2];
       frames.push_back(std::move(mesh));
+      const std::vector<float>& centred = controller.centred_positions();
+      Eigen::MatrixXd shape(static_cast<long>(centred.size() / 3), 3);
+      for (long v = 0; v < shape.rows(); ++v) shape.row(v) << centred[v * 3], centred[v * 3 + 1], centred[v * 3 + 2];
+      centred_frames.push_back(std::move(shape));
+      root_motion.push_back({state.root.x(), state.root.y(), state.root.z(), state.heading});
       states.push_back(state);
       if (exact && state.index % arguments.check_exact == 0) {
         const Eigen::MatrixXd reference = exact->centred(state.state.space, state.state.frame, state.weights);
@@ -109,7 +116,8 @@ void play(const asset::Character& character, const PlayArguments& arguments, cor
   const std::string name = arguments.name.empty() ? character.name : arguments.name;
   {
     auto timer = report.time("write_animation");
-    tools::write_animation(output / "animation.glb", character.template_mesh, frames, controller.fps(), name);
+    tools::write_animation(output / "animation.glb", character.template_mesh, centred_frames, root_motion,
+                           controller.fps(), name, !arguments.uncompressed);
   }
   {
     auto timer = report.time("contact_sheet");
@@ -162,6 +170,8 @@ int main(int argc, char** argv) {
                  "Every N-th frame, compare with the exact non-linear blend (0: never)")->capture_default_str();
   cli.add_option("--preview-frames", arguments.preview_frames, "Frames on the contact sheet")->capture_default_str();
   cli.add_option("--name", arguments.name, "Animation name; default the character's");
+  cli.add_flag("--uncompressed", arguments.uncompressed,
+               "Write animation.glb with float32 accessors only (no KHR_mesh_quantization / EXT_meshopt_compression)");
   cli.add_option("--study", arguments.study,
                  "Instead of a script: casas2013 Table 2 over N random transitions per edge (0: off)")
       ->capture_default_str();

@@ -5,6 +5,7 @@
 #include "surfcap/asset/glb_extension.hpp"
 #include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/blend/stored_space.hpp"
+#include "surfcap/core/npy.hpp"
 
 namespace surfcap::asset::detail {
 
@@ -57,7 +58,17 @@ void read_displacements(const core::Json& json, const GlbAccessors& accessors, l
   const auto stored_vertices = read_optional<std::uint32_t>(accessors, json, "vertices", u32, TINYGLTF_TYPE_SCALAR, stored, what);
   const auto indices = checked_indices(stored_vertices, vertices, accessors, what);
   space.displacement_vertices.assign(indices.begin(), indices.end());
-  space.displacement_values = read_optional<std::uint16_t>(accessors, json, "values", u16, TINYGLTF_TYPE_VEC3, stored, what);
+  const int values = optional_accessor(json, "values", source);
+  if (values >= 0 && accessors.accessor(values, what + " values").componentType == f32) {
+    // The compressed form: float32 values that are float16 values (docs/formats.md).
+    for (const float value : accessors.read<float>(values, f32, TINYGLTF_TYPE_VEC3, stored, what + " values")) {
+      const std::uint16_t half = core::float_to_half(value);
+      if (core::half_to_float(half) != value) throw core::bad_input(source, what + ": a value is not a float16 value");
+      space.displacement_values.push_back(half);
+    }
+  } else {
+    space.displacement_values = read_optional<std::uint16_t>(accessors, json, "values", u16, TINYGLTF_TYPE_VEC3, stored, what);
+  }
   for (const std::uint16_t half : space.displacement_values)
     if ((half & 0x7C00) == 0x7C00) throw core::bad_input(source, what + ": NaN or infinite float16 value");
   space.displacement_threshold_m = core::get_field<double>(json, "thresholdM", source);

@@ -6,6 +6,7 @@
 
 #include "surfcap/asset/glb_extension.hpp"
 #include "surfcap/asset/glb_morph.hpp"
+#include "surfcap/core/npy.hpp"
 
 namespace surfcap::asset::detail {
 namespace {
@@ -73,10 +74,20 @@ core::Json displacements_json(GlbBuilder& builder, const CharacterSpace& space, 
   for (std::size_t r = 0; r <= rows; ++r) offsets[r] = static_cast<std::uint32_t>(space.displacement_offsets[r]);
   std::vector<int> indices(space.displacement_vertices.begin(), space.displacement_vertices.end());
   core::Json json = {{"thresholdM", space.displacement_threshold_m},
-                     {"offsets", builder.add_u32(offsets, "displacements")}};
-  put_accessor(json, "vertices", builder.add_u32(unsigned_indices(indices, vertices, "displacements"), "displacements"));
-  put_accessor(json, "values", builder.add_accessor(space.displacement_values.data(), stored, u16,
-                                                    TINYGLTF_TYPE_VEC3, "displacements"));
+                     {"offsets", builder.add_u32(offsets, "displacements", no_target, exact_codec(4))}};
+  put_accessor(json, "vertices", builder.add_u32(unsigned_indices(indices, vertices, "displacements"), "displacements",
+                                                no_target, exact_codec(4)));
+  if (builder.compressed()) {
+    // Float VEC3 on the 2^stored_exponent grid (fixed point packs far tighter than float16 bits);
+    // every such value is a float16 again, so the reader restores the float16 layout.
+    std::vector<float> values(space.displacement_values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = core::half_to_float(space.displacement_values[i]);
+    put_accessor(json, "values", builder.add_floats(values, TINYGLTF_TYPE_VEC3, "displacements", no_target, false,
+                                                    rounded_codec(12, stored_exponent)));
+  } else {
+    put_accessor(json, "values", builder.add_accessor(space.displacement_values.data(), stored, u16,
+                                                      TINYGLTF_TYPE_VEC3, "displacements"));
+  }
   return json;
 }
 
@@ -99,10 +110,14 @@ core::Json space_json(GlbBuilder& builder, const CharacterSpace& space, long ver
   for (const auto& u : space.node_coordinates)
     require(static_cast<int>(u.size()) == space.dimensions, "space '" + space.name + "' has a node of the wrong dimension");
   require(space.node_count() >= static_cast<long>(n), "space '" + space.name + "' lacks its corner nodes");
-  put_accessor(json, "nodeWeights", builder.add_floats(node_weights(space), TINYGLTF_TYPE_SCALAR, "spaces"));
-  put_accessor(json, "references", builder.add_floats(space.references, TINYGLTF_TYPE_VEC3, "references"));
-  put_accessor(json, "rootMotion", builder.add_floats(space.root_motion, TINYGLTF_TYPE_VEC4, "spaces"));
-  put_accessor(json, "timeWarp", builder.add_floats(space.time_warp, TINYGLTF_TYPE_SCALAR, "spaces"));
+  put_accessor(json, "nodeWeights", builder.add_floats(node_weights(space), TINYGLTF_TYPE_SCALAR, "spaces", no_target,
+                                                       false, exact_codec(4)));
+  put_accessor(json, "references", builder.add_floats(space.references, TINYGLTF_TYPE_VEC3, "references", no_target,
+                                                      false, rounded_codec(12, stored_exponent)));
+  put_accessor(json, "rootMotion", builder.add_floats(space.root_motion, TINYGLTF_TYPE_VEC4, "spaces", no_target, false,
+                                                      exact_codec(16)));
+  put_accessor(json, "timeWarp", builder.add_floats(space.time_warp, TINYGLTF_TYPE_SCALAR, "spaces", no_target, false,
+                                                    exact_codec(4)));
   json["displacements"] = displacements_json(builder, space, vertices);
   if (space.parameter_map) json["parameterMap"] = parameter_map_json(*space.parameter_map);
   return json;
@@ -122,7 +137,8 @@ core::Json transitions_json(GlbBuilder& builder, const Character& character) {
     require(t.rows >= 0 && t.cols >= 0 && t.similarity.size() == static_cast<std::size_t>(t.rows * t.cols),
             "transition " + t.from + " → " + t.to + " is not rows × cols");
     core::Json json = {{"from", t.from}, {"to", t.to}, {"rows", t.rows}, {"cols", t.cols}};
-    put_accessor(json, "similarity", builder.add_floats(t.similarity, TINYGLTF_TYPE_SCALAR, "transitions"));
+    put_accessor(json, "similarity", builder.add_floats(t.similarity, TINYGLTF_TYPE_SCALAR, "transitions", no_target,
+                                                        false, exact_codec(4)));
     transitions.push_back(json);
   }
   return transitions;
@@ -135,24 +151,29 @@ core::Json parts_json(GlbBuilder& builder, const Character& character) {
   core::Json json = {{"parts", core::Json::array()}, {"regions", core::Json::array()}, {"examples", core::Json::array()}};
   if (!same(model.template_mesh.V, character.template_mesh.V))
     put_accessor(json, "restPositions",
-                 builder.add_floats(row_major_floats(model.template_mesh.V), TINYGLTF_TYPE_VEC3, "parts"));
+                 builder.add_floats(row_major_floats(model.template_mesh.V), TINYGLTF_TYPE_VEC3, "parts", no_target,
+                                    false, exact_codec(12)));
   for (const learn::PartModel& p : model.parts) {
     const long values = 3 * static_cast<long>(p.part.vertices.size());
     require(p.mean.size() == values && p.basis.rows() == values, "part '" + p.part.name + "' has a basis of the wrong size");
     core::Json part = {{"name", p.part.name}, {"parent", p.part.parent}, {"kept", p.basis.cols()},
                        {"energy", p.energy}, {"singularValues", core::Json::array()}};
     for (long k = 0; k < p.singular_values.size(); ++k) part["singularValues"].push_back(p.singular_values(k));
-    put_accessor(part, "vertices", builder.add_u32(unsigned_indices(p.part.vertices, vertices, "part"), "parts"));
-    put_accessor(part, "frontier", builder.add_u32(unsigned_indices(p.part.frontier, vertices, "part"), "parts"));
+    put_accessor(part, "vertices", builder.add_u32(unsigned_indices(p.part.vertices, vertices, "part"), "parts",
+                                                    no_target, exact_codec(4)));
+    put_accessor(part, "frontier", builder.add_u32(unsigned_indices(p.part.frontier, vertices, "part"), "parts",
+                                                    no_target, exact_codec(4)));
     std::vector<float> mean(p.mean.size());
     for (long i = 0; i < p.mean.size(); ++i) mean[i] = static_cast<float>(p.mean(i));
-    put_accessor(part, "mean", builder.add_floats(mean, TINYGLTF_TYPE_SCALAR, "parts"));
-    put_accessor(part, "basis", builder.add_floats(row_major_floats(p.basis), TINYGLTF_TYPE_SCALAR, "parts"));
+    put_accessor(part, "mean", builder.add_floats(mean, TINYGLTF_TYPE_SCALAR, "parts", no_target, false, exact_codec(4)));
+    put_accessor(part, "basis", builder.add_floats(row_major_floats(p.basis), TINYGLTF_TYPE_SCALAR, "parts", no_target,
+                                                   false, exact_codec(4)));
     json["parts"].push_back(part);
   }
   for (const auto& [name, region] : model.regions) {
     core::Json entry = {{"name", name}};
-    put_accessor(entry, "vertices", builder.add_u32(unsigned_indices(region, vertices, "region"), "parts"));
+    put_accessor(entry, "vertices", builder.add_u32(unsigned_indices(region, vertices, "region"), "parts", no_target,
+                                                     exact_codec(4)));
     json["regions"].push_back(entry);
   }
   for (const auto& [sequence, frame] : model.examples) json["examples"].push_back({{"sequence", sequence}, {"frame", frame}});

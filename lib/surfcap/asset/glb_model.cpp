@@ -8,7 +8,10 @@
 #include <fstream>  // tiny_gltf.h uses std::ofstream even without its file system callbacks
 #include "surfcap/asset/glb_model.hpp"
 
+#include <meshoptimizer.h>
+
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 
@@ -58,31 +61,77 @@ std::string element_name(int component_type, int type) {
 
 }  // namespace
 
-GlbBuilder::GlbBuilder(const std::string& generator) {
+bool round_to_exponent(std::vector<float>& values, int exponent) {
+  std::vector<float> rounded(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double mantissa = std::nearbyint(std::ldexp(static_cast<double>(values[i]), -exponent));
+    if (!(std::abs(mantissa) < (1 << 23))) return false;  // 24-bit signed mantissa (NaN too)
+    rounded[i] = static_cast<float>(std::ldexp(mantissa, exponent));
+  }
+  values.swap(rounded);
+  return true;
+}
+
+namespace {
+/// The EXPONENTIAL filter's encoding with one exponent: mantissa in the low 24 bits, exponent in
+/// the high 8 (EXT_meshopt_compression: value = mantissa · 2^exponent).
+void encode_exponent(unsigned char* data, std::size_t floats, int exponent) {
+  for (std::size_t i = 0; i < floats; ++i) {
+    float value;
+    std::memcpy(&value, data + 4 * i, 4);
+    const auto mantissa = static_cast<std::int32_t>(std::nearbyint(std::ldexp(static_cast<double>(value), -exponent)));
+    const std::uint32_t encoded = (static_cast<std::uint32_t>(mantissa) & 0xFFFFFFu) |
+                                  (static_cast<std::uint32_t>(exponent) << 24);
+    std::memcpy(data + 4 * i, &encoded, 4);
+  }
+}
+}  // namespace
+
+GlbBuilder::GlbBuilder(const std::string& generator, bool compress) : compress_(compress) {
   model.asset.version = "2.0";
   model.asset.generator = generator;
   model.buffers.emplace_back();
 }
 
-int GlbBuilder::add_view(const void* bytes, std::size_t size, const std::string& kind, int target) {
+int GlbBuilder::add_view(const void* bytes, std::size_t size, const std::string& kind, int target, ViewCodec codec,
+                         int byte_stride) {
   bin_.resize((bin_.size() + 3) / 4 * 4, 0);  // every view 4-byte aligned (glTF 2.0 §3.6.2.4)
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = bin_.size();
   view.byteLength = size;
+  view.byteStride = byte_stride;
   view.target = target;
   const auto* begin = static_cast<const unsigned char*>(bytes);
-  bin_.insert(bin_.end(), begin, begin + size);
-  bytes_by_kind_[kind] += size;
+  const int index = static_cast<int>(model.bufferViews.size());
+  if (compress_ && codec.stride > 0 && size >= 256) {
+    // The decoded view holds whole elements: its length is rounded up to the stride.
+    const std::size_t stride = codec.stride, count = (size + stride - 1) / stride;
+    std::vector<unsigned char> data(count * stride, 0);
+    std::memcpy(data.data(), begin, size);
+    if (codec.rounded) encode_exponent(data.data(), data.size() / 4, codec.exponent);  // rounded by add_floats
+    std::vector<unsigned char> encoded(meshopt_encodeVertexBufferBound(count, stride));
+    encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), data.data(), count, stride));
+    fallback_bytes_ = (fallback_bytes_ + 3) / 4 * 4;
+    compressed_[index] = {fallback_bytes_, count * stride, bin_.size(), encoded.size(), codec.stride, codec.rounded};
+    fallback_bytes_ += count * stride;
+    view.byteLength = count * stride;
+    bin_.insert(bin_.end(), encoded.begin(), encoded.end());
+    bytes_by_kind_[kind] += encoded.size();
+  } else {
+    bin_.insert(bin_.end(), begin, begin + size);
+    bytes_by_kind_[kind] += size;
+  }
   model.bufferViews.push_back(view);
-  return static_cast<int>(model.bufferViews.size()) - 1;
+  return index;
 }
 
 int GlbBuilder::add_accessor(const void* data, std::size_t count, int component_type, int type,
-                             const std::string& kind, int target, bool normalized) {
+                             const std::string& kind, int target, bool normalized, ViewCodec codec) {
   if (count == 0) return -1;
   tinygltf::Accessor accessor;
-  accessor.bufferView = add_view(data, count * components_of(type) * component_size(component_type), kind, target);
+  accessor.bufferView =
+      add_view(data, count * components_of(type) * component_size(component_type), kind, target, codec);
   accessor.byteOffset = 0;
   accessor.componentType = component_type;
   accessor.type = type;
@@ -92,10 +141,35 @@ int GlbBuilder::add_accessor(const void* data, std::size_t count, int component_
   return static_cast<int>(model.accessors.size()) - 1;
 }
 
-int GlbBuilder::add_floats(const std::vector<float>& values, int type, const std::string& kind, int target,
-                           bool bounds) {
+int GlbBuilder::add_normalized_shorts(const std::vector<std::int16_t>& xyz, const std::string& kind) {
+  const std::size_t count = xyz.size() / 3;
+  if (count == 0) return -1;
+  std::vector<std::int16_t> padded(count * 4, 0);  // vertex attribute elements are 4-byte aligned
+  tinygltf::Accessor accessor;
+  accessor.minValues.assign(3, std::numeric_limits<double>::infinity());
+  accessor.maxValues.assign(3, -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < xyz.size(); ++i) {
+    padded[i / 3 * 4 + i % 3] = xyz[i];
+    accessor.minValues[i % 3] = std::min<double>(accessor.minValues[i % 3], xyz[i]);
+    accessor.maxValues[i % 3] = std::max<double>(accessor.maxValues[i % 3], xyz[i]);
+  }
+  accessor.bufferView = add_view(padded.data(), padded.size() * 2, kind, vertex_data, {8, 0}, 8);
+  accessor.componentType = i16;
+  accessor.type = TINYGLTF_TYPE_VEC3;
+  accessor.count = count;
+  accessor.normalized = true;
+  quantised_ = true;
+  model.accessors.push_back(accessor);
+  return static_cast<int>(model.accessors.size()) - 1;
+}
+
+int GlbBuilder::add_floats(std::vector<float> values, int type, const std::string& kind, int target, bool bounds,
+                           ViewCodec codec, std::vector<float>* stored) {
   const int components = components_of(type);
-  const int index = add_accessor(values.data(), values.size() / components, f32, type, kind, target);
+  if (codec.rounded && !(compress_ && values.size() * 4 >= 256 && round_to_exponent(values, codec.exponent)))
+    codec.rounded = false;  // stored exactly: uncompressed form, a small view, or values too large
+  const int index = add_accessor(values.data(), values.size() / components, f32, type, kind, target, false, codec);
+  if (stored) *stored = values;
   if (index >= 0 && bounds) {
     auto& accessor = model.accessors[index];
     accessor.minValues.assign(components, std::numeric_limits<double>::infinity());
@@ -122,6 +196,28 @@ std::string GlbBuilder::finish(const core::Json& extensions) {
       json["extensions"][name] = object;
       json["extensionsUsed"].push_back(name);
     }
+  }
+  if (!compressed_.empty()) {
+    // EXT_meshopt_compression: the compressed streams live in the BIN chunk (buffer 0); the views
+    // point into buffer 1, which holds no data (no uri) and is what a decoder fills.
+    json["buffers"].push_back({{"byteLength", fallback_bytes_},
+                               {"extensions", {{meshopt_extension, {{"fallback", true}}}}}});
+    for (const auto& [index, c] : compressed_) {
+      core::Json& view = json["bufferViews"][index];
+      view["buffer"] = 1;
+      view["byteOffset"] = c.fallback_offset;
+      view["byteLength"] = c.size;
+      core::Json codec = {{"buffer", 0}, {"byteOffset", c.bin_offset}, {"byteLength", c.bin_size},
+                          {"byteStride", c.stride}, {"count", c.size / c.stride}, {"mode", "ATTRIBUTES"}};
+      if (c.exponential) codec["filter"] = "EXPONENTIAL";
+      view["extensions"][meshopt_extension] = codec;
+    }
+    json["extensionsUsed"].push_back(meshopt_extension);
+    json["extensionsRequired"].push_back(meshopt_extension);
+  }
+  if (quantised_) {
+    json["extensionsUsed"].push_back(quantization_extension);
+    json["extensionsRequired"].push_back(quantization_extension);
   }
   return pack_glb(json.dump(), bin_);
 }
@@ -167,14 +263,16 @@ GlbAccessors::Span GlbAccessors::locate(int index, int component_type, int type,
   if (a.bufferView < 0) throw fail("no bufferView");
   const std::string_view view = view_bytes(a.bufferView, what);
   const auto element = static_cast<std::uint64_t>(components_of(type)) * size;
-  const int stride = a.ByteStride(model_.bufferViews[a.bufferView]);
-  if (stride > 0 && static_cast<std::uint64_t>(stride) != element) throw fail("interleaved data is not supported here");
-  const std::uint64_t bytes = static_cast<std::uint64_t>(a.count) * element;
-  if (a.byteOffset % size != 0 || a.byteOffset + bytes > view.size() || bytes / element != a.count)
-    throw fail("overruns its bufferView");
+  const int view_stride = model_.bufferViews[a.bufferView].byteStride;
+  const std::uint64_t stride = view_stride > 0 ? static_cast<std::uint64_t>(view_stride) : element;
+  if (stride < element || stride % size != 0) throw fail("interleaved data is not supported here");
+  if (a.count > view.size()) throw fail("overruns its bufferView");
+  const std::uint64_t bytes = a.count == 0 ? 0 : (static_cast<std::uint64_t>(a.count) - 1) * stride + element;
+  if (a.byteOffset % size != 0 || a.byteOffset + bytes > view.size()) throw fail("overruns its bufferView");
   const std::uint64_t offset = static_cast<std::uint64_t>(view.data() - bin_.data()) + a.byteOffset;
   if (offset % size != 0) throw fail("misaligned data");
-  return {static_cast<std::size_t>(offset), static_cast<std::size_t>(a.count * components_of(type))};
+  return {static_cast<std::size_t>(offset), static_cast<std::size_t>(a.count * components_of(type)),
+          static_cast<std::size_t>(a.count), static_cast<std::size_t>(stride)};
 }
 
 namespace {

@@ -23,26 +23,58 @@ namespace surfcap::asset::detail {
 enum ComponentType : int { u8 = 5121, u16 = 5123, u32 = 5125, f32 = 5126 };
 enum ViewTarget : int { no_target = 0, vertex_data = 34962, index_data = 34963 };
 
+enum : int { i16 = 5122 };
+
+inline constexpr const char* meshopt_extension = "EXT_meshopt_compression";
+inline constexpr const char* quantization_extension = "KHR_mesh_quantization";
+
+/// How a bufferView travels in the compressed form (EXT_meshopt_compression, mode ATTRIBUTES):
+/// its bytes as elements of `stride` bytes (a multiple of 4; 0: stored as is). With `rounded`,
+/// float32 data is first rounded to multiples of 2^`exponent` and stored by the EXPONENTIAL
+/// filter with that one exponent for every value (fixed point: neighbouring values differ in few
+/// bytes, which the codec packs tightly); lossy by at most 2^(exponent−1).
+struct ViewCodec {
+  int stride = 0;
+  bool rounded = false;
+  int exponent = 0;
+};
+/// Lossless compression of elements of `bytes` bytes (a multiple of 4).
+inline ViewCodec exact_codec(int bytes) { return {bytes, false, 0}; }
+/// Float data of elements of `bytes` bytes rounded to multiples of 2^exponent.
+inline ViewCodec rounded_codec(int bytes, int exponent) { return {bytes, true, exponent}; }
+
 /// The model under construction: one buffer (the GLB BIN chunk), one bufferView per accessor,
-/// 4-byte aligned; bytes are tallied per content kind for the export report.
+/// 4-byte aligned; bytes are tallied per content kind for the export report. With `compress`,
+/// views given a codec are stored meshopt-encoded in the BIN chunk and decode into a second,
+/// data-less fallback buffer (EXT_meshopt_compression).
 class GlbBuilder {
  public:
-  explicit GlbBuilder(const std::string& generator);
+  explicit GlbBuilder(const std::string& generator, bool compress = false);
 
   tinygltf::Model model;
 
-  /// A bufferView over a copy of `bytes`; returns its index.
-  int add_view(const void* bytes, std::size_t size, const std::string& kind, int target = no_target);
+  bool compressed() const { return compress_; }
+  /// A bufferView over a copy of `bytes`; returns its index. `byte_stride` > 0 sets
+  /// bufferView.byteStride (vertex attributes whose elements are not 4-byte multiples).
+  int add_view(const void* bytes, std::size_t size, const std::string& kind, int target = no_target,
+               ViewCodec codec = {}, int byte_stride = 0);
   /// An accessor over `count` elements of `type` (TINYGLTF_TYPE_*) at `data`; -1 (nothing
   /// added) when count is 0, since glTF accessors hold at least one element.
   int add_accessor(const void* data, std::size_t count, int component_type, int type, const std::string& kind,
-                   int target = no_target, bool normalized = false);
+                   int target = no_target, bool normalized = false, ViewCodec codec = {});
   /// Float accessor with per-component min/max (required for POSITION and animation inputs).
-  int add_floats(const std::vector<float>& values, int type, const std::string& kind, int target = no_target,
-                 bool bounds = false);
-  int add_u32(const std::vector<std::uint32_t>& values, const std::string& kind, int target = no_target) {
-    return add_accessor(values.data(), values.size(), u32, TINYGLTF_TYPE_SCALAR, kind, target);
+  /// With a rounded codec in the compressed form, `values` are rounded first (the bounds are
+  /// those of the rounded values, what a reader decodes); returns the accessor and leaves the
+  /// stored values in `*stored` when given.
+  int add_floats(std::vector<float> values, int type, const std::string& kind, int target = no_target,
+                 bool bounds = false, ViewCodec codec = {}, std::vector<float>* stored = nullptr);
+  int add_u32(const std::vector<std::uint32_t>& values, const std::string& kind, int target = no_target,
+              ViewCodec codec = {}) {
+    return add_accessor(values.data(), values.size(), u32, TINYGLTF_TYPE_SCALAR, kind, target, false, codec);
   }
+  /// VEC3 of normalized SHORT (KHR_mesh_quantization) in a view of byteStride 8, with min/max
+  /// (integer domain, as glTF requires): morph-target deltas within [−1, 1].
+  int add_normalized_shorts(const std::vector<std::int16_t>& xyz, const std::string& kind);
 
   /// The GLB bytes: tinygltf serialises the standard glTF JSON, `extensions` (name → object,
   /// exact nlohmann JSON: tinygltf::Value drops nulls and empty arrays) is spliced in.
@@ -51,9 +83,22 @@ class GlbBuilder {
   const std::map<std::string, std::size_t>& bytes_by_kind() const { return bytes_by_kind_; }
 
  private:
+  struct Compressed {
+    std::size_t fallback_offset, size, bin_offset, bin_size;
+    int stride;
+    bool exponential;
+  };
+  bool compress_ = false;
+  bool quantised_ = false;
   std::vector<unsigned char> bin_;
+  std::size_t fallback_bytes_ = 0;
+  std::map<int, Compressed> compressed_;  ///< by bufferView
   std::map<std::string, std::size_t> bytes_by_kind_;
 };
+
+/// `values` rounded to multiples of 2^exponent (idempotent); false (values unchanged) when one
+/// would need more than the EXPONENTIAL filter's 24-bit mantissa.
+bool round_to_exponent(std::vector<float>& values, int exponent);
 
 /// Components per element of a TINYGLTF_TYPE_* (1 for SCALAR ... 16 for MAT4).
 int components_of(int type);
@@ -64,14 +109,19 @@ class GlbAccessors {
   GlbAccessors(const tinygltf::Model& model, std::string_view bin, std::filesystem::path source);
 
   /// Elements of accessor `index` (count < 0: any), after checking it is dense (no sparse),
-  /// of the given component type and element type, unnormalised unless `normalized`, tightly
-  /// packed and within its bufferView and the BIN chunk.
+  /// of the given component type and element type, unnormalised unless `normalized`, packed
+  /// (or strided by its bufferView's byteStride) and within its bufferView and the BIN chunk.
   template <class T>
   std::vector<T> read(int index, int component_type, int type, long count, const std::string& what,
                       bool normalized = false) const {
     const Span span = locate(index, component_type, type, count, what, normalized, sizeof(T));
     std::vector<T> values(span.components);
-    if (span.components > 0) std::memcpy(values.data(), bin_.data() + span.offset, span.components * sizeof(T));
+    const std::size_t element = span.components == 0 ? 0 : span.components / span.elements * sizeof(T);
+    if (span.stride == element && span.components > 0)
+      std::memcpy(values.data(), bin_.data() + span.offset, span.components * sizeof(T));
+    else
+      for (std::size_t e = 0; e < span.elements; ++e)
+        std::memcpy(reinterpret_cast<char*>(values.data()) + e * element, bin_.data() + span.offset + e * span.stride, element);
     if constexpr (std::is_floating_point_v<T>)
       for (const T value : values)
         if (!std::isfinite(value))
@@ -89,6 +139,8 @@ class GlbAccessors {
   struct Span {
     std::size_t offset = 0;
     std::size_t components = 0;
+    std::size_t elements = 0;
+    std::size_t stride = 0;  ///< bytes from one element to the next
   };
   Span locate(int index, int component_type, int type, long count, const std::string& what, bool normalized,
               std::size_t component_size) const;

@@ -1,5 +1,6 @@
 #include "surfcap/asset/glb_morph.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -12,9 +13,25 @@ std::vector<float> row_major_floats(const Eigen::MatrixXd& matrix) {
   return values;
 }
 
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+
+std::vector<float> unit_normals(const std::vector<float>& positions, const Eigen::MatrixXi& faces) {
+  const long vertices = static_cast<long>(positions.size() / 3);
+  Eigen::MatrixXd V(vertices, 3);
+  for (long v = 0; v < vertices; ++v) V.row(v) << positions[v * 3], positions[v * 3 + 1], positions[v * 3 + 2];
+  const Eigen::MatrixXd N = core::vertex_normals(V, faces);
+  std::vector<float> normals(positions.size());
+  for (long v = 0; v < vertices; ++v) {
+    const bool none = !(N.row(v).squaredNorm() > 0.5);
+    for (int k = 0; k < 3; ++k) normals[v * 3 + k] = none ? (k == 1 ? 1.0f : 0.0f) : static_cast<float>(N(v, k));
+  }
+  return normals;
+}
+
 namespace {
 
-/// True when every colour is some k/255: stored exactly as normalised bytes (what mesh IO reads).
+/// True when every colour is some k/255 (what mesh IO reads): COLOR_0 restores them exactly.
 bool colors_are_bytes(const Eigen::MatrixXd& colors) {
   for (long i = 0; i < colors.size(); ++i) {
     const double c = colors.data()[i];
@@ -23,16 +40,17 @@ bool colors_are_bytes(const Eigen::MatrixXd& colors) {
   return true;
 }
 
-int add_colors(GlbBuilder& builder, const Eigen::MatrixXd& colors) {
-  if (colors_are_bytes(colors)) {
-    // VEC4 keeps every element 4-byte aligned as vertex attributes must be (glTF 2.0 §3.6.2.4).
-    std::vector<std::uint8_t> rgba(colors.rows() * 4, 255);
-    for (long v = 0; v < colors.rows(); ++v)
-      for (int k = 0; k < 3; ++k) rgba[v * 4 + k] = static_cast<std::uint8_t>(std::lround(colors(v, k) * 255.0));
-    return builder.add_accessor(rgba.data(), colors.rows(), u8, TINYGLTF_TYPE_VEC4, "template", vertex_data, true);
-  }
-  Eigen::MatrixXd clamped = colors.cwiseMax(0.0).cwiseMin(1.0);
-  return builder.add_floats(row_major_floats(clamped), TINYGLTF_TYPE_VEC3, "template", vertex_data);
+/// COLOR_0: linear colours as normalized UNSIGNED_SHORT VEC4 (alpha 1; VEC4 keeps every element
+/// 4-byte aligned, glTF 2.0 §3.6.2.4): 16 bits keep every 8-bit sRGB value distinct.
+int add_colors(GlbBuilder& builder, const Eigen::MatrixXd& colors, std::vector<float>* exact_colors) {
+  const Eigen::MatrixXd clamped = colors.cwiseMax(0.0).cwiseMin(1.0);
+  std::vector<std::uint16_t> rgba(colors.rows() * 4, 65535);
+  for (long v = 0; v < colors.rows(); ++v)
+    for (int k = 0; k < 3; ++k)
+      rgba[v * 4 + k] = static_cast<std::uint16_t>(std::lround(srgb_to_linear(clamped(v, k)) * 65535.0));
+  if (exact_colors && !colors_are_bytes(colors)) *exact_colors = row_major_floats(clamped);
+  return builder.add_accessor(rgba.data(), colors.rows(), u16, TINYGLTF_TYPE_VEC4, "template", vertex_data, true,
+                              exact_codec(8));
 }
 
 int add_material(GlbBuilder& builder, const std::vector<std::uint8_t>& texture_png) {
@@ -62,16 +80,18 @@ int add_material(GlbBuilder& builder, const std::vector<std::uint8_t>& texture_p
 }  // namespace
 
 int add_template_mesh(GlbBuilder& builder, const core::Mesh& mesh, const std::vector<std::uint8_t>& texture_png,
-                      const std::string& name) {
+                      const std::string& name, std::vector<float>* exact_colors) {
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
-  primitive.attributes["POSITION"] =
-      builder.add_floats(row_major_floats(mesh.V), TINYGLTF_TYPE_VEC3, "template", vertex_data, true);
+  const std::vector<float> positions = row_major_floats(mesh.V);
+  primitive.attributes["POSITION"] = builder.add_floats(positions, TINYGLTF_TYPE_VEC3, "template", vertex_data, true);
+  primitive.attributes["NORMAL"] = builder.add_floats(unit_normals(positions, mesh.F), TINYGLTF_TYPE_VEC3, "template",
+                                                      vertex_data);
   std::vector<std::uint32_t> indices(static_cast<std::size_t>(mesh.F.size()));
   for (long f = 0; f < mesh.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) indices[f * 3 + k] = static_cast<std::uint32_t>(mesh.F(f, k));
   primitive.indices = builder.add_u32(indices, "template", index_data);
-  if (mesh.has_colors()) primitive.attributes["COLOR_0"] = add_colors(builder, mesh.colors);
+  if (mesh.has_colors()) primitive.attributes["COLOR_0"] = add_colors(builder, mesh.colors, exact_colors);
   if (mesh.has_uvs()) {
     // glTF puts the UV origin at the top-left of the image, mesh files at the bottom-left.
     std::vector<float> uvs = row_major_floats(mesh.uvs);
@@ -95,22 +115,53 @@ int add_template_mesh(GlbBuilder& builder, const core::Mesh& mesh, const std::ve
   return node.mesh;
 }
 
-int add_morph_targets(GlbBuilder& builder, int mesh, const std::vector<float>& base,
+namespace {
+
+/// The POSITION accessor of one target; `delta` becomes what a reader decodes.
+int add_position_delta(GlbBuilder& builder, std::vector<float>& delta) {
+  if (builder.compressed()) {
+    std::vector<std::int16_t> quantised(delta.size());
+    bool fits = true;
+    for (std::size_t i = 0; i < delta.size() && fits; ++i) {
+      const long q = std::lround(delta[i] * 32767.0f);
+      fits = std::abs(q) <= max_quantised_delta;
+      quantised[i] = static_cast<std::int16_t>(q);
+    }
+    if (fits) {
+      for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = quantised[i] / 32767.0f;  // glTF: c / 32767
+      return builder.add_normalized_shorts(quantised, "morph_targets");
+    }
+  }
+  return builder.add_floats(delta, TINYGLTF_TYPE_VEC3, "morph_targets", vertex_data, true, exact_codec(12));
+}
+
+}  // namespace
+
+int add_morph_targets(GlbBuilder& builder, int mesh, const core::Mesh& template_mesh,
                       const std::vector<Eigen::MatrixXd>& frames, const std::string& prefix,
                       std::vector<std::string>& names, TargetCorrections* corrections) {
   auto& targets = builder.model.meshes[mesh].primitives[0].targets;
   const int first = static_cast<int>(targets.size());
-  std::vector<float> delta(base.size());
+  const std::vector<float> base = row_major_floats(template_mesh.V);
+  const std::vector<float> base_normals = unit_normals(base, template_mesh.F);
+  std::vector<float> delta(base.size()), stored(base.size()), normal_delta(base.size());
   for (std::size_t t = 0; t < frames.size(); ++t) {
     const std::vector<float> frame = row_major_floats(frames[t]);
+    for (std::size_t i = 0; i < base.size(); ++i) delta[i] = frame[i] - base[i];
+    const int position = add_position_delta(builder, delta);
     for (std::size_t i = 0; i < base.size(); ++i) {
-      delta[i] = frame[i] - base[i];
-      if (corrections && base[i] + delta[i] != frame[i]) {
+      stored[i] = base[i] + delta[i];  // float32 sum, as viewers and the reader
+      if (corrections && !builder.compressed() && stored[i] != frame[i]) {
         corrections->indices.push_back(static_cast<std::uint32_t>(t * base.size() + i));
         corrections->values.push_back(frame[i]);
       }
     }
-    targets.push_back({{"POSITION", builder.add_floats(delta, TINYGLTF_TYPE_VEC3, "morph_targets", vertex_data, true)}});
+    // Normals of the frame a viewer shows (the stored one), so a rewrite gives the same bytes.
+    const std::vector<float> normals = unit_normals(stored, template_mesh.F);
+    for (std::size_t i = 0; i < base.size(); ++i) normal_delta[i] = normals[i] - base_normals[i];
+    const int normal = builder.add_floats(normal_delta, TINYGLTF_TYPE_VEC3, "morph_normals", vertex_data, false,
+                                          rounded_codec(12, normal_delta_exponent));
+    targets.push_back({{"POSITION", position}, {"NORMAL", normal}});
     char number[24];
     std::snprintf(number, sizeof number, "%04zu", t);
     names.push_back(prefix + number);
@@ -154,7 +205,8 @@ int add_morph_animation(GlbBuilder& builder, int first_target, int frames, int t
   tinygltf::Animation animation;
   animation.name = name;
   const int input = builder.add_floats(times, TINYGLTF_TYPE_SCALAR, "animations", no_target, true);
-  add_channel(animation, input, builder.add_floats(weights, TINYGLTF_TYPE_SCALAR, "animations"), "weights");
+  add_channel(animation, input, builder.add_floats(weights, TINYGLTF_TYPE_SCALAR, "animations", no_target, false,
+                                                   exact_codec(4)), "weights");
   if (root) {
     std::vector<float> translation, rotation;
     float previous_w = 1, previous_y = 0;
@@ -165,8 +217,10 @@ int add_morph_animation(GlbBuilder& builder, int first_target, int frames, int t
       rotation.insert(rotation.end(), {0.0f, y, 0.0f, w});
       previous_y = y, previous_w = w;
     }
-    add_channel(animation, input, builder.add_floats(translation, TINYGLTF_TYPE_VEC3, "animations"), "translation");
-    add_channel(animation, input, builder.add_floats(rotation, TINYGLTF_TYPE_VEC4, "animations"), "rotation");
+    add_channel(animation, input, builder.add_floats(translation, TINYGLTF_TYPE_VEC3, "animations", no_target, false,
+                                                     exact_codec(12)), "translation");
+    add_channel(animation, input, builder.add_floats(rotation, TINYGLTF_TYPE_VEC4, "animations", no_target, false,
+                                                     exact_codec(16)), "rotation");
   }
   builder.model.animations.push_back(animation);
   return static_cast<int>(builder.model.animations.size()) - 1;

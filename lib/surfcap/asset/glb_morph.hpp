@@ -16,10 +16,20 @@ namespace surfcap::asset::detail {
 /// Row-major float32 copy of a matrix (n×k → n·k values).
 std::vector<float> row_major_floats(const Eigen::MatrixXd& matrix);
 
-/// Adds the template as mesh 0 (POSITION, indices, COLOR_0 / TEXCOORD_0, one material with the
-/// PNG texture when given) on node 0 of scene 0. Returns the mesh index.
+/// glTF vertex colours are linear (glTF 2.0 §3.7.2.1); captured colours are sRGB-encoded.
+double srgb_to_linear(double c);
+double linear_to_srgb(double c);
+
+/// Unit area-weighted vertex normals of row-major float positions (+y where a vertex has no
+/// incident area: glTF normals must be unit length).
+std::vector<float> unit_normals(const std::vector<float>& positions, const Eigen::MatrixXi& faces);
+
+/// Adds the template as mesh 0 (POSITION, NORMAL, indices, COLOR_0 (linear) / TEXCOORD_0, one
+/// material with the PNG texture when given) on node 0 of scene 0. Returns the mesh index.
+/// `exact_colors` (when given) receives the sRGB colours as float32 when COLOR_0 cannot restore
+/// them exactly (colours that are not all k/255).
 int add_template_mesh(GlbBuilder& builder, const core::Mesh& mesh, const std::vector<std::uint8_t>& texture_png,
-                      const std::string& name);
+                      const std::string& name, std::vector<float>* exact_colors = nullptr);
 
 /// Components (flat index over frames × vertices × 3) where template + target ≠ frame in
 /// float32 arithmetic, with their exact values: what a reader needs to restore frames bit for bit.
@@ -28,10 +38,18 @@ struct TargetCorrections {
   std::vector<float> values;
 };
 
-/// Appends one POSITION morph target per frame (frame − base, float32; base = the template's
-/// row-major positions) to mesh `mesh`, its name "<prefix><frame>" to `names`; returns the index
-/// of the first. Fills `corrections` when given.
-int add_morph_targets(GlbBuilder& builder, int mesh, const std::vector<float>& base,
+/// The largest |component| of a morph-target delta stored as normalized SHORT (KHR_mesh_quantization)
+/// in the compressed form, in units of 1/32767 m; larger deltas stay float.
+inline constexpr int max_quantised_delta = 32000;
+/// The NORMAL deltas of the compressed form are multiples of 2^normal_delta_exponent.
+inline constexpr int normal_delta_exponent = -12;
+
+/// Appends one morph target per frame to mesh `mesh` — POSITION = frame − template (float32, or
+/// in the compressed form normalized SHORT rounded to 1/32767 m) and NORMAL = normals of the
+/// frame as stored − template normals — its name "<prefix><frame>" to `names`; returns the index
+/// of the first. Fills `corrections` when given (uncompressed form only: the compressed form is
+/// not exact).
+int add_morph_targets(GlbBuilder& builder, int mesh, const core::Mesh& template_mesh,
                       const std::vector<Eigen::MatrixXd>& frames, const std::string& prefix,
                       std::vector<std::string>& names, TargetCorrections* corrections);
 

@@ -1,10 +1,14 @@
 // Reading character.glb: the container checked first (glb_container), the glTF structures
 // through tinygltf, the SURFCAP_motion_graph extension from the exact JSON (glb_extension_read).
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/asset/glb_container.hpp"
 #include "surfcap/asset/glb_extension.hpp"
+#include "surfcap/asset/glb_meshopt.hpp"
+#include "surfcap/asset/glb_morph.hpp"
 #include "surfcap/core/atomic_file.hpp"
 
 namespace surfcap::asset {
@@ -39,8 +43,29 @@ std::vector<std::uint8_t> texture_bytes(const tinygltf::Model& model, const tiny
   return {png.begin(), png.end()};
 }
 
+/// Version 1 stored the sRGB values themselves in COLOR_0 (bytes, or float VEC3).
+Eigen::MatrixXd srgb_color_0(const GlbAccessors& accessors, int index, long vertices) {
+  Eigen::MatrixXd colors(vertices, 3);
+  if (accessors.accessor(index, "COLOR_0").componentType == u8) {
+    const auto rgba = accessors.read<std::uint8_t>(index, u8, TINYGLTF_TYPE_VEC4, vertices, "COLOR_0", true);
+    for (long v = 0; v < vertices; ++v)
+      for (int k = 0; k < 3; ++k) colors(v, k) = rgba[v * 4 + k] / 255.0;
+    return colors;
+  }
+  return matrix_of(accessors.read<float>(index, f32, TINYGLTF_TYPE_VEC3, vertices, "COLOR_0"), vertices, 3);
+}
+
+/// Version 2: linear COLOR_0 (normalized UNSIGNED_SHORT VEC4) back to the captured 8-bit sRGB.
+Eigen::MatrixXd linear_color_0(const GlbAccessors& accessors, int index, long vertices) {
+  const auto rgba = accessors.read<std::uint16_t>(index, u16, TINYGLTF_TYPE_VEC4, vertices, "COLOR_0", true);
+  Eigen::MatrixXd colors(vertices, 3);
+  for (long v = 0; v < vertices; ++v)
+    for (int k = 0; k < 3; ++k) colors(v, k) = std::round(linear_to_srgb(rgba[v * 4 + k] / 65535.0) * 255.0) / 255.0;
+  return colors;
+}
+
 void read_template(const tinygltf::Model& model, const GlbAccessors& accessors, const core::Json& extension,
-                   Character& character) {
+                   int version, Character& character) {
   const auto& source = accessors.source();
   const tinygltf::Primitive& primitive = template_primitive(model, integer_field(extension, "mesh", source), source);
   core::Mesh& mesh = character.template_mesh;
@@ -55,23 +80,32 @@ void read_template(const tinygltf::Model& model, const GlbAccessors& accessors, 
     if (indices[i] >= static_cast<std::uint64_t>(vertices)) throw core::bad_input(source, "template index out of range");
     mesh.F.data()[(i % 3) * mesh.F.rows() + i / 3] = static_cast<int>(indices[i]);
   }
+  const core::Json no_template = core::Json::object();
+  const core::Json& exact = extension.contains("template") ? extension["template"] : no_template;
   if (const auto it = primitive.attributes.find("COLOR_0"); it != primitive.attributes.end()) {
-    if (accessors.accessor(it->second, "COLOR_0").componentType == u8) {
-      const auto rgba = accessors.read<std::uint8_t>(it->second, u8, TINYGLTF_TYPE_VEC4, vertices, "COLOR_0", true);
-      mesh.colors.resize(vertices, 3);
-      for (long v = 0; v < vertices; ++v)
-        for (int k = 0; k < 3; ++k) mesh.colors(v, k) = rgba[v * 4 + k] / 255.0;
-    } else {
-      mesh.colors = matrix_of(accessors.read<float>(it->second, f32, TINYGLTF_TYPE_VEC3, vertices, "COLOR_0"), vertices, 3);
-    }
+    if (version < 2) mesh.colors = srgb_color_0(accessors, it->second, vertices);
+    else if (exact.contains("colors"))
+      mesh.colors = matrix_of(accessors.read<float>(integer_field(exact, "colors", source), f32, TINYGLTF_TYPE_VEC3,
+                                                    vertices, "template colors"), vertices, 3);
+    else mesh.colors = linear_color_0(accessors, it->second, vertices);
   }
-  if (extension.contains("template") && extension["template"].contains("uvs"))
-    mesh.uvs = matrix_of(accessors.read<float>(integer_field(extension["template"], "uvs", source), f32,
+  if (exact.contains("uvs"))
+    mesh.uvs = matrix_of(accessors.read<float>(integer_field(exact, "uvs", source), f32,
                                                TINYGLTF_TYPE_VEC2, vertices, "template uvs"), vertices, 2);
   character.texture_png = texture_bytes(model, primitive, accessors);
   core::MeshRequirements lenient;
   lenient.allow_non_manifold = lenient.allow_zero_area_faces = true;
   core::validate_mesh(mesh, lenient, source);
+}
+
+/// A morph target's POSITION: float, or normalized SHORT (KHR_mesh_quantization, c / 32767).
+std::vector<float> position_delta(const GlbAccessors& accessors, int index, long vertices, const std::string& what) {
+  if (accessors.accessor(index, what).componentType != i16)
+    return accessors.read<float>(index, f32, TINYGLTF_TYPE_VEC3, vertices, what);
+  const auto quantised = accessors.read<std::int16_t>(index, i16, TINYGLTF_TYPE_VEC3, vertices, what, true);
+  std::vector<float> delta(quantised.size());
+  for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = std::max(quantised[i] / 32767.0f, -1.0f);
+  return delta;
 }
 
 /// Frames = template + morph target in float32, then the exact corrections (glb_morph.hpp).
@@ -88,8 +122,7 @@ void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& acc
     const auto& target = primitive.targets[first + t];
     const auto it = target.find("POSITION");
     if (it == target.end()) throw core::bad_input(source, "a morph target of '" + sequence.name + "' has no POSITION");
-    const auto delta = accessors.read<float>(it->second, f32, TINYGLTF_TYPE_VEC3, vertices,
-                                             "morph target of '" + sequence.name + "'");
+    const auto delta = position_delta(accessors, it->second, vertices, "morph target of '" + sequence.name + "'");
     Eigen::MatrixXd frame(vertices, 3);
     for (long v = 0; v < vertices; ++v)
       for (int k = 0; k < 3; ++k) frame(v, k) = base[v * 3 + k] + delta[v * 3 + k];  // float32 sum, as viewers
@@ -117,7 +150,8 @@ void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& acc
   character.sequences.push_back(std::move(sequence));
 }
 
-Character read_character(const tinygltf::Model& model, const GlbAccessors& accessors, const core::Json& extension) {
+Character read_character(const tinygltf::Model& model, const GlbAccessors& accessors, const core::Json& extension,
+                         int version) {
   const auto& source = accessors.source();
   Character character;
   character.name = core::get_field<std::string>(extension, "name", source);
@@ -125,7 +159,7 @@ Character read_character(const tinygltf::Model& model, const GlbAccessors& acces
   if (!(character.fps > 0)) throw core::bad_input(source, "fps must be positive");
   character.units = extension.value("units", std::string("m"));
   if (extension.contains("provenance")) character.provenance = extension["provenance"];
-  read_template(model, accessors, extension, character);
+  read_template(model, accessors, extension, version, character);
   const tinygltf::Primitive& primitive = template_primitive(model, integer_field(extension, "mesh", source), source);
   std::vector<float> base(static_cast<std::size_t>(character.template_mesh.V.size()));
   for (long v = 0; v < character.vertex_count(); ++v)
@@ -153,9 +187,12 @@ Character parse_character_glb(std::string_view bytes, const std::filesystem::pat
       throw core::bad_input(source, std::string(motion_graph_extension) + " version " + std::to_string(version) +
                                         " (this surfcap reads 1.." + std::to_string(motion_graph_extension_version) +
                                         "): written by a newer surfcap?");
-    const tinygltf::Model model = load_gltf(bytes, source);
-    const GlbAccessors accessors(model, chunks.bin, source);
-    return read_character(model, accessors, extension);
+    // The compressed form: its views decoded first, then checked like any other file.
+    const std::string decoded = decode_meshopt_glb(bytes, source);
+    const std::string_view plain = decoded.empty() ? bytes : std::string_view(decoded);
+    const tinygltf::Model model = load_gltf(plain, source);
+    const GlbAccessors accessors(model, unpack_glb(plain, source).bin, source);
+    return read_character(model, accessors, extension, version);
   } catch (const nlohmann::json::exception& e) {
     throw core::bad_input(source, std::string("malformed glTF JSON: ") + e.what());
   } catch (const std::out_of_range& e) {

@@ -23,9 +23,15 @@ void check_template(const core::Mesh& mesh) {
     throw core::internal_error("the template mesh has face indices out of range");
 }
 
+/// The capture's frame rate where clients read metadata: scene extras (Blender: the scene's
+/// custom properties) — glTF itself keys animations in seconds.
+void set_scene_timing(GlbBuilder& builder, double fps, long frames) {
+  builder.model.scenes.at(0).extras = tinygltf::Value(tinygltf::Value::Object{
+      {"fps", tinygltf::Value(fps)}, {"frames", tinygltf::Value(static_cast<int>(frames))}});
+}
+
 /// Every sequence as morph targets + an animation; returns the extension's "sequences".
 core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& character) {
-  const std::vector<float> base = row_major_floats(character.template_mesh.V);
   std::vector<std::string> names;
   std::vector<int> first_targets;
   core::Json sequences = core::Json::array();
@@ -36,16 +42,19 @@ core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& charact
     if (sequence.root_motion.size() != sequence.frames.size())
       throw core::internal_error("sequence '" + sequence.name + "' needs one root motion per frame");
     TargetCorrections corrections;
-    first_targets.push_back(add_morph_targets(builder, mesh, base, sequence.frames, sequence.name + "/", names, &corrections));
+    first_targets.push_back(
+        add_morph_targets(builder, mesh, character.template_mesh, sequence.frames, sequence.name + "/", names, &corrections));
     core::Json entry = {{"name", sequence.name}, {"frames", sequence.frame_count()}, {"firstTarget", first_targets.back()}};
     std::vector<float> root;
     for (const core::RootMotion& r : sequence.root_motion)
       root.insert(root.end(), {float(r.x), float(r.y), float(r.z), float(r.heading)});
-    if (const int accessor = builder.add_floats(root, TINYGLTF_TYPE_VEC4, "sequences"); accessor >= 0)
+    if (const int accessor = builder.add_floats(root, TINYGLTF_TYPE_VEC4, "sequences", no_target, false, exact_codec(16));
+        accessor >= 0)
       entry["rootMotion"] = accessor;
     if (!corrections.indices.empty())
-      entry["corrections"] = {{"indices", builder.add_u32(corrections.indices, "sequences")},
-                              {"values", builder.add_floats(corrections.values, TINYGLTF_TYPE_SCALAR, "sequences")}};
+      entry["corrections"] = {{"indices", builder.add_u32(corrections.indices, "sequences", no_target, exact_codec(4))},
+                              {"values", builder.add_floats(corrections.values, TINYGLTF_TYPE_SCALAR, "sequences",
+                                                            no_target, false, exact_codec(4))}};
     sequences.push_back(entry);
   }
   finish_morph_targets(builder, mesh, names);
@@ -59,14 +68,18 @@ core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& charact
   return sequences;
 }
 
-core::Json extension_json(GlbBuilder& builder, int mesh, const Character& character) {
+core::Json extension_json(GlbBuilder& builder, int mesh, const Character& character,
+                          const std::vector<float>& exact_colors) {
   core::Json extension = {{"version", motion_graph_extension_version}, {"name", character.name},
                           {"fps", character.fps}, {"units", character.units}, {"mesh", mesh}, {"node", 0},
                           {"provenance", character.provenance}};
   extension["sequences"] = add_sequences(builder, mesh, character);
   if (character.template_mesh.has_uvs())  // exact, in the mesh files' convention (v up)
-    extension["template"] = {{"uvs", builder.add_floats(row_major_floats(character.template_mesh.uvs),
-                                                        TINYGLTF_TYPE_VEC2, "template")}};
+    extension["template"]["uvs"] = builder.add_floats(row_major_floats(character.template_mesh.uvs),
+                                                      TINYGLTF_TYPE_VEC2, "template", no_target, false, exact_codec(8));
+  if (!exact_colors.empty())  // sRGB, exact, when COLOR_0 (linear, 16 bits) cannot restore them
+    extension["template"]["colors"] =
+        builder.add_floats(exact_colors, TINYGLTF_TYPE_VEC3, "template", no_target, false, exact_codec(12));
   extension["spaces"] = spaces_json(builder, character);
   extension["transitions"] = transitions_json(builder, character);
   if (character.parts) extension["parts"] = parts_json(builder, character);
@@ -80,6 +93,7 @@ GlbSummary summarise(const GlbBuilder& builder, const std::string& glb) {
   summary.json_bytes = static_cast<std::uint8_t>(glb[12]) | static_cast<std::uint8_t>(glb[13]) << 8 |
                        static_cast<std::uint8_t>(glb[14]) << 16 | static_cast<std::size_t>(static_cast<std::uint8_t>(glb[15])) << 24;
   summary.accessors = static_cast<long>(builder.model.accessors.size());
+  summary.compressed = builder.compressed();
   summary.animations = static_cast<long>(builder.model.animations.size());
   summary.morph_targets = static_cast<long>(builder.model.meshes.at(0).primitives.at(0).targets.size());
   return summary;
@@ -90,9 +104,13 @@ GlbSummary summarise(const GlbBuilder& builder, const std::string& glb) {
 std::string character_glb_bytes(const Character& character, const GlbWriteOptions& options, GlbSummary* summary) {
   check_template(character.template_mesh);
   if (!(character.fps > 0)) throw core::internal_error("cannot export a character with fps " + std::to_string(character.fps));
-  GlbBuilder builder(generator_of(options));
-  const int mesh = add_template_mesh(builder, character.template_mesh, character.texture_png, character.name);
-  const core::Json extension = extension_json(builder, mesh, character);
+  GlbBuilder builder(generator_of(options), options.compress);
+  std::vector<float> exact_colors;
+  const int mesh = add_template_mesh(builder, character.template_mesh, character.texture_png, character.name, &exact_colors);
+  long frames = 0;
+  for (const auto& sequence : character.sequences) frames += sequence.frame_count();
+  set_scene_timing(builder, character.fps, frames);
+  const core::Json extension = extension_json(builder, mesh, character, exact_colors);
   std::string glb = builder.finish({{motion_graph_extension, extension}});
   if (summary) *summary = summarise(builder, glb);
   return glb;
@@ -107,19 +125,23 @@ GlbSummary write_character_glb(const std::filesystem::path& path, const Characte
 }
 
 GlbSummary write_animation_glb(const std::filesystem::path& path, const core::Mesh& template_mesh,
-                               const std::vector<Eigen::MatrixXd>& world_frames, double fps, const std::string& name) {
+                               const std::vector<Eigen::MatrixXd>& centred_frames,
+                               const std::vector<core::RootMotion>& root_motion, double fps, const std::string& name,
+                               const GlbWriteOptions& options) {
   check_template(template_mesh);
   if (!(fps > 0)) throw core::internal_error("an animation needs fps > 0");
-  for (const Eigen::MatrixXd& frame : world_frames)
+  if (root_motion.size() != centred_frames.size()) throw core::internal_error("an animation needs one root motion per frame");
+  for (const Eigen::MatrixXd& frame : centred_frames)
     if (frame.rows() != template_mesh.vertex_count() || frame.cols() != 3)
       throw core::internal_error("animation '" + name + "' has frames of another vertex count than the template");
-  GlbBuilder builder(generator_of({}));
+  GlbBuilder builder(generator_of(options), options.compress);
   const int mesh = add_template_mesh(builder, template_mesh, {}, name);
+  set_scene_timing(builder, fps, static_cast<long>(centred_frames.size()));
   std::vector<std::string> names;
-  const int first = add_morph_targets(builder, mesh, row_major_floats(template_mesh.V), world_frames, name + "/", names, nullptr);
+  const int first = add_morph_targets(builder, mesh, template_mesh, centred_frames, name + "/", names, nullptr);
   finish_morph_targets(builder, mesh, names);
-  add_morph_animation(builder, first, static_cast<int>(world_frames.size()), static_cast<int>(names.size()), fps,
-                      nullptr, name);
+  add_morph_animation(builder, first, static_cast<int>(centred_frames.size()), static_cast<int>(names.size()), fps,
+                      &root_motion, name);
   const std::string glb = builder.finish(core::Json::object());
   core::write_file_atomically(path, glb);
   return summarise(builder, glb);

@@ -14,3 +14,21 @@ final_files() {
   [[ -d $1 ]] || return 0
   (cd "$1" && find . -type f ! -name '.*' | sed 's|^\./||' | sort)
 }
+
+# install_packages PACKAGE...: installs the Debian packages that are missing (apt-get as root,
+# else sudo -n); fails when that is not possible (the caller then skips with exit 77).
+install_packages() {
+  local package missing=()
+  for package in "$@"; do
+    [[ $(dpkg-query -W -f='${Status}' "$package" 2>/dev/null) == "install ok installed" ]] || missing+=("$package")
+  done
+  [[ ${#missing[@]} -eq 0 ]] && return 0
+  local sudo_cmd=()
+  [[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo -n)
+  echo "installing ${missing[*]} (apt-get)"
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" \
+    > /dev/null 2>&1 ||
+    { DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get update -qq > /dev/null 2>&1 &&
+      DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" \
+        > /dev/null 2>&1; }
+}

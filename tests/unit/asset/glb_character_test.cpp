@@ -1,14 +1,17 @@
-// character.glb round trip (bit-exact arrays, same bytes for the same character), its standard
-// glTF content (what viewers play) and the reader's refusals (exit 3 naming the file).
+// character.glb round trip (uncompressed: bit-exact arrays; compressed: within the stated
+// rounding, rewritten to the same bytes), its standard glTF content (what viewers play: normals,
+// linear colours, morph targets, root motion) and the reader's refusals (exit 3 naming the file).
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <set>
 #include <limits>
 
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/asset/glb_container.hpp"
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/npy.hpp"
 #include "surfcap/render/png.hpp"
 #include "synthetic_character.hpp"
 #include "test_support.hpp"
@@ -147,10 +150,12 @@ void expect_bad_input(const std::string& file, Read read, const std::string& wha
   }
 }
 
+const asset::GlbWriteOptions uncompressed{.generator = "", .compress = false};
+
 TEST(CharacterGlb, RoundTripIsBitExact) {
   testing::TemporaryDirectory dir("glb_round_trip");
   const asset::Character character = test_character();
-  const asset::GlbSummary summary = asset::write_character_glb(dir / "character.glb", character);
+  const asset::GlbSummary summary = asset::write_character_glb(dir / "character.glb", character, uncompressed);
   EXPECT_EQ(summary.file_bytes, std::filesystem::file_size(dir / "character.glb"));
   EXPECT_EQ(testing::count_hidden_files(dir.path()), 0);
   expect_same_character(character, asset::read_character_glb(dir / "character.glb"));
@@ -158,14 +163,122 @@ TEST(CharacterGlb, RoundTripIsBitExact) {
 
 TEST(CharacterGlb, SameCharacterSameBytes) {
   const asset::Character character = test_character();
-  const std::string first = asset::character_glb_bytes(character);
-  EXPECT_EQ(first, asset::character_glb_bytes(asset::parse_character_glb(first, "first")));
-  EXPECT_EQ(first, asset::character_glb_bytes(character));
+  for (const asset::GlbWriteOptions& options : {asset::GlbWriteOptions{}, uncompressed}) {
+    const std::string first = asset::character_glb_bytes(character, options);
+    EXPECT_EQ(first, asset::character_glb_bytes(asset::parse_character_glb(first, "first"), options));
+    EXPECT_EQ(first, asset::character_glb_bytes(character, options));
+  }
+}
+
+double max_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double d = 0;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) d = std::max(d, std::abs(double(a[i]) - b[i]));
+  return d;
+}
+
+TEST(CharacterGlb, CompressedFormIsSmallerAndWithinItsRounding) {
+  asset::Character character = testing::synthetic_character(testing::make_sphere(24, 32, 0.5), {.frames = 12});
+  asset::GlbSummary small, large;
+  const std::string compressed = asset::character_glb_bytes(character, {}, &small);
+  asset::character_glb_bytes(character, uncompressed, &large);
+  EXPECT_TRUE(small.compressed);
+  // Random test arrays hardly compress; the quantised morph targets and fixed-point arrays still do.
+  EXPECT_LT(3 * small.file_bytes, 2 * large.file_bytes) << small.file_bytes << " vs " << large.file_bytes;
+  const core::Json json = json_of(compressed);
+  EXPECT_EQ(json["extensionsRequired"], core::Json({"EXT_meshopt_compression", "KHR_mesh_quantization"}));
+  EXPECT_TRUE(json["buffers"][1]["extensions"]["EXT_meshopt_compression"]["fallback"].get<bool>());
+  const core::Json& target = json["meshes"][0]["primitives"][0]["targets"][0];
+  EXPECT_EQ(json["accessors"][target["POSITION"].get<int>()]["componentType"], 5122);  // normalized SHORT
+  const asset::Character read = asset::parse_character_glb(compressed, "compressed.glb");
+  // Morph targets: template + round(delta · 32767) / 32767.
+  for (std::size_t s = 0; s < character.sequences.size(); ++s)
+    for (int t = 0; t < character.sequences[s].frame_count(); ++t)
+      EXPECT_LE((read.sequences[s].frames[t] - character.sequences[s].frames[t]).cwiseAbs().maxCoeff(), 0.5 / 32767 + 1e-6);
+  // References and displacement values: multiples of 2^-16 m (displacements stay float16 values).
+  auto halves = [](const std::vector<std::uint16_t>& bits) {
+    std::vector<float> values;
+    for (const auto half : bits) values.push_back(core::half_to_float(half));
+    return values;
+  };
+  for (std::size_t s = 0; s < character.spaces.size(); ++s) {
+    EXPECT_LE(max_difference(read.spaces[s].references, character.spaces[s].references), std::ldexp(1.0, -17));
+    EXPECT_LE(max_difference(halves(read.spaces[s].displacement_values), halves(character.spaces[s].displacement_values)),
+              std::ldexp(1.0, -17));
+    EXPECT_EQ(read.spaces[s].displacement_vertices, character.spaces[s].displacement_vertices);
+    EXPECT_EQ(read.spaces[s].time_warp, character.spaces[s].time_warp);
+  }
+  EXPECT_EQ(read.transitions[0].similarity, character.transitions[0].similarity);
+  EXPECT_TRUE(identical(read.template_mesh.V, character.template_mesh.V));
+  EXPECT_TRUE(identical(read.template_mesh.colors, character.template_mesh.colors));
+  // A corrupt compressed stream is refused naming the file.
+  std::string corrupt = compressed;
+  const std::size_t bin = 20 + json.dump().size();
+  for (std::size_t i = bin + 64; i < corrupt.size(); i += 7) corrupt[i] = static_cast<char>(corrupt[i] ^ 0x5A);
+  expect_bad_input("corrupt.glb", [&] { asset::parse_character_glb(corrupt, "corrupt.glb"); }, "corrupt stream");
+}
+
+TEST(CharacterGlb, ColoursAreLinearInTheFileAndCapturedOnRead) {
+  asset::Character character = test_character();
+  const long vertices = character.vertex_count();
+  for (long v = 0; v < vertices; ++v)  // every 8-bit sRGB value
+    for (int k = 0; k < 3; ++k) character.template_mesh.colors(v, k) = ((v * 3 + k) * 37 % 256) / 255.0;
+  character.template_mesh.colors.row(0) << 51 / 255.0, 88 / 255.0, 166 / 255.0;
+  for (const asset::GlbWriteOptions& options : {asset::GlbWriteOptions{}, uncompressed}) {
+    const std::string glb = asset::character_glb_bytes(character, options);
+    const core::Json json = json_of(glb);
+    const core::Json& colour = json["accessors"][json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].get<int>()];
+    EXPECT_EQ(colour["componentType"], 5123);
+    EXPECT_TRUE(colour["normalized"].get<bool>());
+    const asset::Character read = asset::parse_character_glb(glb, "colours.glb");
+    EXPECT_TRUE(identical(read.template_mesh.colors, character.template_mesh.colors));
+  }
+  // The decoded COLOR_0 value of (51, 88, 166): what a viewer multiplies into its lighting.
+  const std::string glb = asset::character_glb_bytes(character, uncompressed);
+  const core::Json json = json_of(glb);
+  const core::Json& colour = json["accessors"][json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"].get<int>()];
+  const auto chunks = asset::unpack_glb(glb, "colours.glb");
+  const core::Json& view = json["bufferViews"][colour["bufferView"].get<int>()];
+  std::uint16_t rgba[4];
+  std::memcpy(rgba, chunks.bin.data() + view.value("byteOffset", 0), sizeof rgba);
+  EXPECT_NEAR(rgba[0] / 65535.0, 0.0331, 1e-4);  // sRGB 51 → linear 0.0331 (IEC 61966-2-1)
+  EXPECT_NEAR(rgba[1] / 65535.0, 0.0976, 1e-4);
+  EXPECT_NEAR(rgba[2] / 65535.0, 0.3813, 1e-4);
+  EXPECT_EQ(rgba[3], 65535);
+}
+
+TEST(CharacterGlb, NormalsShadeTheTemplateAndFollowTheTargets) {
+  asset::Character character = test_character();
+  // Frame 0 of "walk": the template squashed to half its height — its normals tilt towards ±y.
+  character.sequences[0].frames[0] = character.template_mesh.V;
+  character.sequences[0].frames[0].col(1) *= 0.5;
+  character.sequences[0].frames[0] = character.sequences[0].frames[0].cast<float>().cast<double>();
+  const std::string glb = asset::character_glb_bytes(character, uncompressed);
+  const core::Json json = json_of(glb);
+  const auto chunks = asset::unpack_glb(glb, "normals.glb");
+  auto floats = [&](int accessor) {
+    const core::Json& view = json["bufferViews"][json["accessors"][accessor]["bufferView"].get<int>()];
+    std::vector<float> values(json["accessors"][accessor]["count"].get<std::size_t>() * 3);
+    std::memcpy(values.data(), chunks.bin.data() + view.value("byteOffset", 0), values.size() * sizeof(float));
+    return values;
+  };
+  const core::Json& primitive = json["meshes"][0]["primitives"][0];
+  const std::vector<float> normals = floats(primitive["attributes"]["NORMAL"].get<int>());
+  const std::vector<float> delta = floats(primitive["targets"][0]["NORMAL"].get<int>());
+  const Eigen::MatrixXd expected = core::vertex_normals(character.sequences[0].frames[0], character.template_mesh.F);
+  const Eigen::MatrixXd V = character.template_mesh.V;
+  for (long v = 0; v < character.vertex_count(); ++v) {
+    const Eigen::Vector3d n(normals[v * 3], normals[v * 3 + 1], normals[v * 3 + 2]);
+    EXPECT_NEAR(n.norm(), 1.0, 1e-6);
+    // The sphere's vertex normals point away from its centre.
+    EXPECT_GT(n.dot((V.row(v) - V.colwise().mean()).normalized().transpose()), 0.8) << "vertex " << v;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(n(k) + delta[v * 3 + k], expected(v, k), 1e-5) << "vertex " << v;
+  }
 }
 
 TEST(CharacterGlb, SequencesAreMorphTargetAnimations) {
   const asset::Character character = test_character();
-  const core::Json json = json_of(asset::character_glb_bytes(character));
+  const core::Json json = json_of(asset::character_glb_bytes(character, uncompressed));
   const core::Json& primitive = json["meshes"][0]["primitives"][0];
   const int frames = character.sequences[0].frame_count() + character.sequences[1].frame_count();
   ASSERT_EQ(primitive["targets"].size(), static_cast<std::size_t>(frames));
@@ -186,14 +299,18 @@ TEST(CharacterGlb, SequencesAreMorphTargetAnimations) {
   // The coordinate of test_character() that loses bits in frame − template travels as a correction.
   EXPECT_TRUE(json["extensions"]["SURFCAP_motion_graph"]["sequences"][0].contains("corrections"));
   EXPECT_FALSE(json.contains("extensionsRequired"));  // viewers may ignore it
+  EXPECT_EQ(json["scenes"][0]["extras"]["fps"], character.fps);  // where clients read the frame rate
+  EXPECT_TRUE(primitive["targets"][0].contains("NORMAL"));
 }
 
 TEST(CharacterGlb, NonByteColoursAndDoublesAreStoredAsFloat32) {
   asset::Character character = test_character();
   character.template_mesh.colors.setConstant(0.3);  // not k/255: float COLOR_0
   character.sequences[0].frames[0](0, 0) = 0.1;      // not a float: rounded
-  const asset::Character read = asset::parse_character_glb(asset::character_glb_bytes(character), "c.glb");
+  const asset::Character read = asset::parse_character_glb(asset::character_glb_bytes(character, uncompressed), "c.glb");
   EXPECT_EQ(read.template_mesh.colors(5, 1), static_cast<double>(0.3f));
+  EXPECT_EQ(asset::parse_character_glb(asset::character_glb_bytes(character), "c.glb").template_mesh.colors(5, 1),
+            static_cast<double>(0.3f));
   EXPECT_EQ(read.sequences[0].frames[0](0, 0), static_cast<double>(0.1f));
 }
 
@@ -206,29 +323,42 @@ TEST(CharacterGlb, MinimalAndPartRestPoseCharactersRoundTrip) {
   minimal.transitions.clear();
   minimal.parts.reset();
   minimal.sequences.resize(1);
-  expect_same_character(minimal, asset::parse_character_glb(asset::character_glb_bytes(minimal), "minimal.glb"));
+  expect_same_character(minimal, asset::parse_character_glb(asset::character_glb_bytes(minimal, uncompressed), "minimal.glb"));
 
   asset::Character posed = test_character();
   auto& rest = posed.parts->template_mesh.V;  // the parts' rest pose differs from the template
   rest = (rest.array() + 0.25).cast<float>().cast<double>();
-  const std::string glb = asset::character_glb_bytes(posed);
+  const std::string glb = asset::character_glb_bytes(posed, uncompressed);
   EXPECT_TRUE(json_of(glb)["extensions"]["SURFCAP_motion_graph"]["parts"].contains("restPositions"));
   expect_same_character(posed, asset::parse_character_glb(glb, "posed.glb"));
 }
 
-TEST(AnimationGlb, PlaysEveryFrameAsAMorphTarget) {
+TEST(AnimationGlb, PlaysEveryFrameAsAMorphTargetWithRootMotionOnTheNode) {
   testing::TemporaryDirectory dir("glb_animation");
   const core::Mesh mesh = testing::make_sphere(6, 8, 0.3);
   std::vector<Eigen::MatrixXd> frames;
-  for (int t = 0; t < 5; ++t) frames.push_back(mesh.V.rowwise() + Eigen::RowVector3d(0.1 * t, 0, 0));
-  const auto summary = asset::write_animation_glb(dir / "animation.glb", mesh, frames, 25, "play");
+  std::vector<core::RootMotion> root;
+  for (int t = 0; t < 5; ++t) {
+    frames.push_back(mesh.V.rowwise() + Eigen::RowVector3d(0, 0.01 * t, 0));  // the centred shape
+    root.push_back({1.5 * t, 0.9, -0.5 * t, 0.25 * t});                         // the path: on the node
+  }
+  const auto summary = asset::write_animation_glb(dir / "animation.glb", mesh, frames, root, 30, "play", uncompressed);
   EXPECT_EQ(summary.morph_targets, 5);
   EXPECT_EQ(summary.animations, 1);
   const core::Json json = json_of(core::read_file(dir / "animation.glb"));
-  EXPECT_EQ(json["animations"][0]["name"], "play");
+  EXPECT_EQ(json["scenes"][0]["extras"]["fps"], 30.0);
+  EXPECT_EQ(json["scenes"][0]["extras"]["frames"], 5);
+  const core::Json& animation = json["animations"][0];
+  EXPECT_EQ(animation["name"], "play");
+  std::set<std::string> paths;
+  for (const auto& channel : animation["channels"]) paths.insert(channel["target"]["path"].get<std::string>());
+  EXPECT_EQ(paths, (std::set<std::string>{"weights", "translation", "rotation"}));
   const core::Json& target = json["accessors"][json["meshes"][0]["primitives"][0]["targets"][4]["POSITION"].get<int>()];
-  EXPECT_NEAR(target["min"][0].get<double>(), 0.4, 1e-6);  // frame 4 = template + (0.4, 0, 0)
-  EXPECT_NEAR(target["max"][0].get<double>(), 0.4, 1e-6);
+  EXPECT_NEAR(target["min"][1].get<double>(), 0.04, 1e-6);  // frame 4 = template + (0, 0.04, 0): no path
+  EXPECT_NEAR(target["max"][1].get<double>(), 0.04, 1e-6);
+  EXPECT_NEAR(target["max"][0].get<double>(), 0.0, 1e-6);
+  const core::Json& times = json["accessors"][animation["samplers"][0]["input"].get<int>()];
+  EXPECT_NEAR(times["max"][0].get<double>(), 4 / 30.0, 1e-6);
   // Not a character: no extension.
   expect_bad_input("animation.glb", [&] { asset::read_character_glb(dir / "animation.glb"); }, "animation as character");
 }
