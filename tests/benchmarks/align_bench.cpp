@@ -1,4 +1,4 @@
-// Pairwise non-rigid alignment at ~3k template vertices on one core (issue 5 target ≤ 2 s), with
+// Pairwise non-rigid alignment at ~3k template vertices on one core (target ≤ 2 s), with
 // the split reported as counters: tetrahedralisation (once per template), factorisation,
 // matching (closest points, ICP) and solves (rotation fits + back-substitution).
 #include <benchmark/benchmark.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Leave-out evaluation (issue 6): learn from a subset of frames, then for held-out frames
+// Leave-out evaluation: learn from a subset of frames, then for held-out frames
 // constrain only some regions (hands, feet, head) to their true positions and reconstruct the
 // rest with plain Laplacian editing, the global learnt basis and the part-based basis.
 #include <string>

@@ -51,7 +51,7 @@ struct HistogramSet {
   FloatRows histograms;  ///< N×B
   std::string capture;   ///< the capture folder it came from (provenance)
   /// Per frame, stance_width of its mesh (the automatic template choice); empty when read from a
-  /// histograms.json written before session 6.
+  /// histograms.json without a `stance` field.
   std::vector<double> stance;
   /// Per frame, from compute_histograms only (empty when read from disk).
   std::vector<FrameSurface> surfaces;

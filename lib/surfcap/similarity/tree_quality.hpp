@@ -1,6 +1,6 @@
 #pragma once
 // How good a similarity tree is for alignment, measured against ground truth: the true
-// non-rigid deformation along its edges against the best possible tree's (issue 4).
+// non-rigid deformation along its edges against the best possible tree's.
 
 #include <Eigen/Core>
 
