@@ -72,18 +72,6 @@ Eigen::Vector3d weighted_median(std::vector<std::pair<Eigen::Vector3d, double>>&
 
 }  // namespace
 
-void FlowOptions::validate() const {
-  auto require = [](bool ok, const char* what) {
-    if (!ok) throw core::bad_arguments(std::string("flow option: ") + what);
-  };
-  require(iterations >= 0, "flow iterations must be ≥ 0");
-  require(stride >= 1 && stride <= 16, "flow stride must be in 1..16");
-  require(consistency_px > 0, "flow consistency must be > 0 pixels");
-  require(margin_px >= 0, "flow margin must be ≥ 0 pixels");
-  require(max_offset_edges > 0 && visibility_edges > 0, "flow distances must be > 0");
-  require(min_facing >= 0 && min_facing < 1, "flow minimum facing must be in [0, 1)");
-}
-
 std::optional<double> GreyImage::sample(double x, double y) const {
   if (!(x >= 0 && y >= 0 && x <= width - 1 && y <= height - 1)) return std::nullopt;
   const int x0 = std::min(static_cast<int>(x), width - 2 < 0 ? 0 : width - 2);
@@ -224,7 +212,7 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
         if (std::abs(along) < 1e-9) continue;
         const Eigen::Vector3d hit = centre + ray * (normal.dot(a - centre) / along);
         barycentric[i] = geometry::barycentric_coordinates(hit, a, b, d);
-        const auto value = appearance.value(f, barycentric[i], options.same_camera ? static_cast<int>(c) : -1);
+        const auto value = appearance.value(f, barycentric[i], static_cast<int>(c));
         if (!value) continue;
         predicted.pixels[i] = static_cast<float>(*value);
         valid[i] = static_cast<char>(-along >= options.min_facing ? 1 : 2);  // 2: shown, but too grazing to use

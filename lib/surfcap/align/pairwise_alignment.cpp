@@ -112,7 +112,7 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   const Eigen::Vector3d source_centre = points.colwise().mean().transpose();
   const Eigen::Vector3d target_centre = target.vertices().colwise().mean().transpose();
   IcpOptions icp;
-  icp.max_distance = 2 * options.coarse_distance * model.height();
+  icp.max_distance = 2 * options.coarse_distance_height * model.height();
   icp.normal_compatibility = options.normal_compatibility;
   icp.iterations = 12;
   const double gate = icp.max_distance;
@@ -152,63 +152,6 @@ double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& alig
   return static_cast<double>(std::count(stacked.begin(), stacked.end(), 1)) / static_cast<double>(n);
 }
 
-void PairwiseOptions::validate() const {
-  auto require = [](bool ok, const char* what) {
-    if (!ok) throw core::bad_arguments(std::string("alignment option: ") + what);
-  };
-  require(initial_patches >= 1, "initial patches must be ≥ 1");
-  require(levels >= 0 && levels <= 10, "levels must be in 0..10");
-  require(patch_icp_iterations >= 1, "patch ICP iterations must be ≥ 1");
-  require(rotation_iterations >= 1, "rotation iterations must be ≥ 1");
-  require(patch_weight > 0 && dense_weight > 0, "constraint weights must be > 0");
-  require(min_patch_inliers > 0 && min_patch_inliers <= 1, "minimum patch inlier fraction must be in (0, 1]");
-  require(dense_iterations >= 0, "dense iterations must be ≥ 0");
-  require(normal_compatibility >= -1 && normal_compatibility <= 1, "normal compatibility must be in [-1, 1]");
-  require(coarse_distance > 0 && dense_distance_edges > 0, "distance gates must be > 0");
-  require(heading_samples >= 1, "heading samples must be ≥ 1");
-  require(patch_color_levels >= 0, "patch colour levels must be ≥ 0");
-  require(patch_color_gain > 0 && patch_color_gain <= 1, "patch colour gain must be in (0, 1]");
-  require(prediction_levels >= 0, "prediction levels must be ≥ 0");
-  require(prediction_gain > 0 && prediction_gain <= 1, "prediction gain must be in (0, 1]");
-  require(color_smoothing >= 0 && color_smoothing <= 20, "colour smoothing must be in 0..20 rings");
-  require(std::isfinite(patch_color_scale), "patch colour scale must be finite");
-  require(features.ratio > 0 && features.ratio <= 1, "feature ratio must be in (0, 1]");
-  require(features.max_per_image >= 1, "features per image must be ≥ 1");
-  require(crease_angle_deg > 0 && crease_angle_deg < 180, "crease angle must be in (0, 180) degrees");
-  require(crease_distance_edges > 0, "crease distance must be > 0");
-  require(crease_straightness > 0 && crease_target_straightness > 0, "crease straightness must be > 0");
-  require(crease_straight_radius > 0, "crease straightness radius must be > 0");
-  require(stacked_distance_edges > 0 && stacked_rest_distance > 0, "stacked-layer distances must be > 0");
-  flow.validate();
-}
-
-core::Json PairwiseOptions::to_json() const {
-  return {{"initial_patches", initial_patches}, {"levels", levels},
-          {"patch_icp_iterations", patch_icp_iterations}, {"rotation_iterations", rotation_iterations},
-          {"patch_weight", patch_weight}, {"min_patch_inliers", min_patch_inliers},
-          {"dense_iterations", dense_iterations}, {"dense_weight", dense_weight},
-          {"normal_compatibility", normal_compatibility}, {"coarse_distance", coarse_distance},
-          {"dense_distance_edges", dense_distance_edges}, {"heading_samples", heading_samples},
-          {"color_sigma", color_sigma}, {"color_radius_edges", color_radius_edges},
-          {"patch_color_scale", patch_color_scale}, {"patch_color_levels", patch_color_levels},
-          {"patch_color_gain", patch_color_gain},
-          {"color_smoothing", color_smoothing},
-          {"prediction_levels", prediction_levels}, {"prediction_gain", prediction_gain},
-          {"feature_weight", feature_weight}, {"coverage_weight", coverage_weight},
-          {"crease_weight", crease_weight}, {"crease_angle_deg", crease_angle_deg},
-          {"crease_distance_edges", crease_distance_edges}, {"crease_patch_levels", crease_patch_levels},
-          {"stacked_distance_edges", stacked_distance_edges}, {"stacked_rest_distance", stacked_rest_distance},
-          {"crease_straightness", crease_straightness}, {"crease_target_straightness", crease_target_straightness},
-          {"crease_straight_radius", crease_straight_radius},
-          {"flow", {{"weight", flow.weight}, {"iterations", flow.iterations}, {"stride", flow.stride}, {"patch_levels", flow.patch_levels}, {"same_camera", flow.same_camera},
-                    {"consistency_px", flow.consistency_px}, {"margin_px", flow.margin_px}, {"max_offset_edges", flow.max_offset_edges},
-                    {"min_facing", flow.min_facing}, {"visibility_edges", flow.visibility_edges},
-                    {"normal_compatibility", flow.normal_compatibility}}},
-          {"features", {{"max_per_image", features.max_per_image}, {"ratio", features.ratio},
-                        {"neighbours", features.neighbours}, {"neighbour_tolerance", features.neighbour_tolerance},
-                        {"max_displacement", features.max_displacement}, {"min_facing", features.min_facing}}}};
-}
-
 AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer)
     : seconds_tetrahedralisation_(0),
       mesh_(std::move(mesh)),
@@ -218,14 +161,14 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
         seconds_tetrahedralisation_ = seconds_since(start);
         return built;
       }()),
-      patches_(patch_hierarchy(mesh_.V, mesh_.F, options.initial_patches, options.levels)),
+      patches_(patch_hierarchy(mesh_.V, mesh_.F, options.patches, options.levels)),
       mean_edge_(mean_edge_length(mesh_)),
       height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()) {
-  if (mesh_.has_colors()) smoothed_colors_ = smoothed_vertex_colors(mesh_.F, mesh_.colors, options.color_smoothing);
-  if (options.crease_weight > 0)
+  if (mesh_.has_colors()) smoothed_colors_ = smoothed_vertex_colors(mesh_.F, mesh_.colors, options.patch_color.smoothing);
+  if (options.crease.weight)
     crease_vertices_ = straight_crease_vertices(
-        mesh_.V, convex_crease_vertices(mesh_.V, mesh_.F, options.crease_angle_deg * std::numbers::pi / 180),
-        options.crease_straight_radius * height_, options.crease_straightness);
+        mesh_.V, convex_crease_vertices(mesh_.V, mesh_.F, options.crease.angle_deg * std::numbers::pi / 180),
+        options.crease.straight_radius_height * height_, options.crease.straightness.value_or(1.0));
 }
 
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {
@@ -276,10 +219,10 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     positions = transformed(positions, rigid);
     const Eigen::Vector3d forward = rigid.rotation * Eigen::Vector3d::UnitZ();
     result.heading_change = std::atan2(forward.x(), forward.z());
-    if (options.feature_weight > 0 && features.parent != nullptr && features.child != nullptr) {
+    if (options.feature.weight && features.parent != nullptr && features.child != nullptr) {
       FeatureMatching matching =
           feature_constraints(surface, F, *features.parent, *features.child, rigid.rotation, rigid.translation,
-                              options.dense_distance_edges * model.mean_edge(), model.height(), options.features);
+                              options.dense_distance_edges * model.mean_edge(), model.height(), options.feature);
       feature_targets = std::move(matching.constraints);
       result.feature_constraints = static_cast<long>(feature_targets.size());
     }
@@ -297,7 +240,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
 
   // Appearance flow (drift-free, dense): where the child's images show each template point, by
   // optical flow from the template rendered with the root frame's appearance; overrides other targets.
-  const bool use_flow = options.flow.weight > 0 && features.appearance != nullptr && features.child_images != nullptr &&
+  const bool use_flow = options.flow.weight && features.appearance != nullptr && features.child_images != nullptr &&
                         !features.child_images->empty();
   auto add_flow_targets = [&](const Eigen::MatrixXd& surface, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {
     const FlowTargets flow = flow_targets(*features.appearance, surface, F, *features.child_images, target,
@@ -307,7 +250,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     for (long v = 0; v < surface_count; ++v) {
       if (flow.support(v) <= 0) continue;
       targets.row(v) = flow.targets.row(v);
-      weights(v) = options.flow.weight * std::min(1.0, flow.support(v));
+      weights(v) = *options.flow.weight * std::min(1.0, flow.support(v));
       ++result.flow_vertices;
     }
   };
@@ -318,9 +261,9 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   const Eigen::MatrixXd target_normals = core::vertex_normals(target.vertices(), target.faces());
   auto add_coverage_targets = [&](const Eigen::MatrixXd& surface, double reach, Eigen::MatrixXd& targets,
                                   Eigen::VectorXd& weights) {
-    if (options.coverage_weight <= 0) return;
+    if (!options.coverage.weight) return;
     const geometry::SurfaceQuery aligned(surface, F);
-    const double gate = options.uncovered_distance_edges * model.mean_edge();
+    const double gate = options.checks.uncovered_distance_edges * model.mean_edge();
     std::vector<FeatureConstraint> pulls;
     for (long i = 0; i < target.vertices().rows(); ++i) {
       const Eigen::Vector3d x = target.vertices().row(i).transpose();
@@ -330,24 +273,22 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       pulls.push_back({closest.face, closest.barycentric, x});
     }
     result.coverage_constraints = static_cast<long>(pulls.size());
-    add_feature_targets(surface, F, pulls, options.coverage_weight, targets, weights);
+    add_feature_targets(surface, F, pulls, *options.coverage.weight, targets, weights);
   };
 
   // Crease matching: the template's rim vertices to the reconstruction's convex creases.
   std::unique_ptr<CreaseLines> crease_lines;
-  if (options.crease_weight > 0 && !model.crease_vertices().empty()) {
+  if (options.crease.weight && !model.crease_vertices().empty()) {
     start = Clock::now();
     crease_lines = std::make_unique<CreaseLines>(target.vertices(), target.faces(),
-                                                 options.crease_angle_deg * std::numbers::pi / 180,
-                                                 options.crease_distance_edges * model.mean_edge(),
-                                                 options.crease_straight_radius * model.height(),
-                                                 options.crease_target_straightness);
+                                                 options.crease.angle_deg * std::numbers::pi / 180,
+                                                 options.crease.distance_edges * model.mean_edge());
     result.timings.matching += seconds_since(start);
   }
   auto add_crease_targets = [&](const Eigen::MatrixXd& surface, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {
     if (!crease_lines) return;
     const Eigen::MatrixXd normals = core::vertex_normals(surface, F);
-    const double gate = options.crease_distance_edges * model.mean_edge();
+    const double gate = options.crease.distance_edges * model.mean_edge();
     result.crease_constraints = 0;
     for (const int v : model.crease_vertices()) {
       Eigen::Vector3d point;
@@ -355,7 +296,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
                                  options.normal_compatibility, point))
         continue;
       targets.row(v) = point.transpose();
-      weights(v) = options.crease_weight;
+      weights(v) = *options.crease.weight;
       ++result.crease_constraints;
     }
   };
@@ -363,13 +304,13 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   // Colour-aware patch correspondences when both meshes have colours.
   std::unique_ptr<ColoredTarget> colored;
   Eigen::MatrixXd target_smoothed_colors;
-  if (options.patch_color_scale > 0 && options.patch_color_levels > 0 && model.smoothed_colors().rows() == surface_count &&
+  if (options.patch_color.scale && options.patch_color.levels > 0 && model.smoothed_colors().rows() == surface_count &&
       target_colors != nullptr &&
       target_colors->rows() == target.vertices().rows()) {
     start = Clock::now();
-    target_smoothed_colors = smoothed_vertex_colors(target.faces(), *target_colors, options.color_smoothing);
+    target_smoothed_colors = smoothed_vertex_colors(target.faces(), *target_colors, options.patch_color.smoothing);
     colored = std::make_unique<ColoredTarget>(target.vertices(), target.faces(), target_smoothed_colors,
-                                              options.patch_color_scale);
+                                              *options.patch_color.scale);
     result.timings.matching += seconds_since(start);
   }
 
@@ -382,7 +323,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     IcpOptions icp;
     icp.iterations = options.patch_icp_iterations;
     icp.normal_compatibility = options.normal_compatibility;
-    icp.max_distance = std::max(options.coarse_distance * model.height() / std::pow(2.0, static_cast<double>(level)),
+    icp.max_distance = std::max(options.coarse_distance_height * model.height() / std::pow(2.0, static_cast<double>(level)),
                                 options.dense_distance_edges * model.mean_edge());
     Eigen::MatrixXd targets = surface;
     Eigen::VectorXd weights = Eigen::VectorXd::Zero(surface_count);
@@ -395,7 +336,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
         if (colored) point_colors.row(i) = model.smoothed_colors().row(members[static_cast<std::size_t>(i)]);
       }
       RigidFit fit = fit_rigid(points, point_normals, target, icp);
-      if (colored && static_cast<int>(level) < options.patch_color_levels) {
+      if (colored && static_cast<int>(level) < options.patch_color.levels) {
         // Model selection per patch: the colour-aware fit replaces the closest-point fit only when
         // the patch's colours agree clearly better with the reconstruction's where it lands.
         const RigidFit colour_fit = fit_rigid(points, point_normals, point_colors, *colored, icp);
@@ -403,12 +344,12 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
                                                          target_smoothed_colors, icp.max_distance);
         const double colour_score = colour_disagreement(transformed(points, colour_fit), point_colors, target,
                                                         target_smoothed_colors, icp.max_distance);
-        if (colour_score < options.patch_color_gain * closest_score) {
+        if (colour_score < options.patch_color.gain * closest_score) {
           fit = colour_fit;
           ++result.color_patches;
         }
       }
-      if (predicted_surface != nullptr && static_cast<int>(level) < options.prediction_levels) {
+      if (predicted_surface != nullptr && static_cast<int>(level) < options.prediction.levels) {
         // Model selection per patch: a fit started where the motion prediction puts the patch
         // (the rigid motion taking it there) replaces the fit from the parent's pose when it
         // lies clearly closer to the reconstruction with no fewer compatible matches — a limb
@@ -418,7 +359,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
         const RigidFit predicted_fit = fit_rigid(points, point_normals, target, icp, best_rigid_motion(points, goal));
         const double current_score = clamped_mean_distance(transformed(points, fit), target, icp.max_distance);
         const double predicted_score = clamped_mean_distance(transformed(points, predicted_fit), target, icp.max_distance);
-        if (predicted_score < options.prediction_gain * current_score && predicted_fit.inliers >= fit.inliers) {
+        if (predicted_score < options.prediction.gain * current_score && predicted_fit.inliers >= fit.inliers) {
           fit = predicted_fit;
           ++result.predicted_patches;
         }
@@ -432,21 +373,19 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       }
       result.patch_constraints += static_cast<long>(members.size());
     }
-    if (use_flow && static_cast<int>(level) >= static_cast<int>(model.patches().size()) - options.flow.patch_levels)
-      add_flow_targets(surface, targets, weights);
-    if (static_cast<int>(level) >= static_cast<int>(model.patches().size()) - options.crease_patch_levels)
+    if (static_cast<int>(level) >= static_cast<int>(model.patches().size()) - options.crease.patch_levels)
       add_crease_targets(surface, targets, weights);
     add_coverage_targets(surface, icp.max_distance, targets, weights);
-    add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
+    add_feature_targets(surface, F, feature_targets, options.feature.weight.value_or(0), targets, weights);
     result.timings.matching += seconds_since(start);
     if (weights.maxCoeff() > 0) solve(targets, weights);
   }
 
   // Dense fit: every surface vertex towards its compatible closest point on the reconstruction.
   const double dense_gate = options.dense_distance_edges * model.mean_edge();
-  const double color_radius = options.color_radius_edges * model.mean_edge();
+  const double color_radius = options.color.radius_edges * model.mean_edge();
   std::unique_ptr<VertexGrid> grid;
-  if (options.color_sigma > 0 && target_colors != nullptr && model.mesh().has_colors() &&
+  if (options.color.sigma && target_colors != nullptr && model.mesh().has_colors() &&
       target_colors->rows() == target.vertices().rows())
     grid = std::make_unique<VertexGrid>(target.vertices(), color_radius);
   // Each surface vertex towards its compatible closest point on the reconstruction (or, with
@@ -472,7 +411,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
           const double d2 = (x - closest.position).squaredNorm();
           if (d2 > radius2) return;
           const double c2 = (target_colors->row(j).transpose() - colour).squaredNorm();
-          const double w = std::exp(-c2 / (2 * options.color_sigma * options.color_sigma) - d2 / (2 * radius2 / 4));
+          const double w = std::exp(-c2 / (2 * *options.color.sigma * *options.color.sigma) - d2 / (2 * radius2 / 4));
           sum += w * x;
           weight_sum += w;
         });
@@ -498,8 +437,8 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     const long matched = dense_targets(surface, targets, weights);
     result.dense_constraints = matched;
     add_crease_targets(surface, targets, weights);
-    add_coverage_targets(surface, options.coarse_distance * model.height(), targets, weights);
-    add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
+    add_coverage_targets(surface, options.coarse_distance_height * model.height(), targets, weights);
+    add_feature_targets(surface, F, feature_targets, options.feature.weight.value_or(0), targets, weights);
     result.timings.matching += seconds_since(start);
     if (matched == 0) break;
     solve(targets, weights);
@@ -515,8 +454,8 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
       result.dense_constraints = dense_targets(surface, targets, weights);
       add_flow_targets(surface, targets, weights);
       add_crease_targets(surface, targets, weights);
-      add_coverage_targets(surface, options.coarse_distance * model.height(), targets, weights);
-      add_feature_targets(surface, F, feature_targets, options.feature_weight, targets, weights);
+      add_coverage_targets(surface, options.coarse_distance_height * model.height(), targets, weights);
+      add_feature_targets(surface, F, feature_targets, options.feature.weight.value_or(0), targets, weights);
       result.timings.matching += seconds_since(start);
       if (weights.maxCoeff() <= 0) break;
       solve(targets, weights);
@@ -531,7 +470,7 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
     // Two-sided check: reconstruction vertices far from the aligned template are parts it missed
     // (a limb collapsed onto another leaves one uncovered) — the one-sided residual cannot see that.
     const geometry::SurfaceQuery aligned(positions.topRows(surface_count), F);
-    const double gate = options.uncovered_distance_edges * model.mean_edge();
+    const double gate = options.checks.uncovered_distance_edges * model.mean_edge();
     long uncovered = 0;
     for (long i = 0; i < target.vertices().rows(); ++i)
       if (aligned.closest_point(target.vertices().row(i).transpose()).distance > gate) ++uncovered;
@@ -539,8 +478,8 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
         target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows()) : 0.0;
   }
   result.stacked_fraction = stacked_fraction(model.mesh().V, positions.topRows(surface_count), F,
-                                             options.stacked_distance_edges * model.mean_edge(),
-                                             options.stacked_rest_distance * model.height());
+                                             options.checks.stacked_distance_edges * model.mean_edge(),
+                                             options.checks.stacked_rest_distance_height * model.height());
   result.timings.matching += seconds_since(start);
   result.positions = std::move(positions);
   return result;

@@ -119,7 +119,8 @@ Eigen::MatrixXd pose_volume(const AlignmentTemplate& model, const Eigen::MatrixX
 Registration register_capture(const core::Capture& capture, const similarity::FrameList& frames,
                               const AlignmentTree& tree, const RegisterOptions& options,
                               const core::ProgressCallback& progress) {
-  options.pairwise.validate();
+  options.validate();
+  const double failure_residual = options.failure.failure_residual_mm / 1000;
   const std::vector<NodeFrame> nodes = node_frames(capture, frames);
   const long node_count = static_cast<long>(nodes.size());
   std::map<std::pair<int, int>, long> node_of;  // (capture sequence, frame) → node
@@ -157,18 +158,18 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
   }
   // Image features per node: detected when the node is aligned (the root first), released once the
   // next depth (its children) is done.
-  const bool use_features = options.images && options.pairwise.feature_weight > 0;
+  const bool use_features = options.images && options.pairwise.feature.weight.has_value();
   std::vector<FrameFeatures> features(static_cast<std::size_t>(node_count));
   if (use_features) {
     const geometry::SurfaceQuery query(template_mesh.V, template_mesh.F);
     features[static_cast<std::size_t>(tree.root)] =
-        detect_frame_features(capture, root.sequence, root.frame, query, options.pairwise.features);
+        detect_frame_features(capture, root.sequence, root.frame, query, options.pairwise.feature);
     registration.frames[static_cast<std::size_t>(tree.root)].features = features[static_cast<std::size_t>(tree.root)].size();
   }
   // The root frame's appearance of the template, for the flow iterations (undistorted images only).
   std::unique_ptr<TemplateAppearance> appearance;
   const bool root_has_images = !capture.sequences[static_cast<std::size_t>(root.sequence)].images.empty();
-  if (options.images && options.pairwise.flow.weight > 0 && options.pairwise.flow.iterations > 0 && root_has_images) {
+  if (options.images && options.pairwise.flow.weight && options.pairwise.flow.iterations > 0 && root_has_images) {
     if (has_distortion(capture)) {
       spdlog::warn("cameras.json declares lens distortion: the appearance flow needs undistorted images, not used");
     } else {
@@ -199,7 +200,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       const geometry::SurfaceQuery query(target.V, target.F);
       if (use_features)
         features[static_cast<std::size_t>(edge.child)] =
-            detect_frame_features(capture, child.sequence, child.frame, query, options.pairwise.features);
+            detect_frame_features(capture, child.sequence, child.frame, query, options.pairwise.feature);
       const std::vector<GreyImage> child_images =
           appearance ? read_grey_images(capture, child.sequence, child.frame) : std::vector<GreyImage>{};
       auto& record = registration.frames[static_cast<std::size_t>(edge.child)];
@@ -208,16 +209,16 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       // fraction is above the limit (the worst relative to its limit names the failure).
       enum class Verdict { pass, grown, failed };
       const auto hard_scores = [&](const PairwiseResult& r) {
-        return std::array<double, 3>{r.mean_residual / options.failure_residual,
-                                     r.uncovered_fraction / options.max_uncovered,
-                                     r.stacked_fraction / options.max_stacked};
+        return std::array<double, 3>{r.mean_residual / failure_residual,
+                                     r.uncovered_fraction / options.failure.max_uncovered,
+                                     r.stacked_fraction / options.failure.max_stacked};
       };
       const auto grown = [&](const PairwiseResult& r, long from) {
         // The root's residual is that of the template on its own reconstruction (about 0): no reference.
         const double parent_residual =
             from == tree.root ? 0.0 : registration.frames[static_cast<std::size_t>(from)].alignment.mean_residual;
-        return options.residual_growth > 0 && parent_residual > 0 &&
-               r.mean_residual > options.residual_growth * parent_residual;
+        return options.failure.residual_growth && parent_residual > 0 &&
+               r.mean_residual > *options.failure.residual_growth * parent_residual;
       };
       const auto verdict = [&](const PairwiseResult& r, long from) {
         const auto scores = hard_scores(r);
@@ -237,7 +238,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       // follows them — or looks much more like that frame than like `from` (a cycle's twin, below);
       // empty otherwise.
       auto motion_prediction = [&](long from, const Eigen::MatrixXd& parent) -> Eigen::MatrixXd {
-        if (options.motion_prediction <= 0 || options.parent_surface) return {};
+        if (!options.motion.motion_prediction) return {};
         const long grand = registration.frames[static_cast<std::size_t>(from)].parent;
         if (grand < 0) return {};
         const NodeFrame a = nodes[static_cast<std::size_t>(grand)], b = nodes[static_cast<std::size_t>(from)];
@@ -249,14 +250,14 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           // against 0.086 to run:11) — one running step of run:12 → run:11, with the rear foot
           // kicking up out of the patch gate.
           const auto next = node_of.find({b.sequence, 2 * b.frame - a.frame});
-          if (options.twin_prediction <= 0 || options.costs == nullptr || next == node_of.end() ||
-              (*options.costs)(edge.child, next->second) > options.twin_prediction * (*options.costs)(edge.child, from))
+          if (!options.motion.twin_prediction || options.costs == nullptr || next == node_of.end() ||
+              (*options.costs)(edge.child, next->second) > *options.motion.twin_prediction * (*options.costs)(edge.child, from))
             return {};
         }
         const long n = model.deformer().surface_vertex_count();
         Eigen::MatrixXd predicted =
             parent.topRows(n) +
-            options.motion_prediction * (parent.topRows(n) - positions[static_cast<std::size_t>(grand)].topRows(n));
+            *options.motion.motion_prediction * (parent.topRows(n) - positions[static_cast<std::size_t>(grand)].topRows(n));
         if (!next_frame) {
           // The twin is a cycle's travel away (demo's run: 2 m): the predicted pose is moved onto the
           // child's reconstruction as a whole, as the parent is by align_pair's rigid initialisation.
@@ -274,7 +275,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           const NodeFrame source = nodes[static_cast<std::size_t>(from)];
           const core::Mesh mesh = read_reconstruction(capture, source.sequence, source.frame);
           other = detect_frame_features(capture, source.sequence, source.frame,
-                                        geometry::SurfaceQuery(mesh.V, mesh.F), options.pairwise.features);
+                                        geometry::SurfaceQuery(mesh.V, mesh.F), options.pairwise.feature);
           parent_features = &other;
         }
         FeaturePair pair = use_features ? FeaturePair{parent_features, &features[static_cast<std::size_t>(edge.child)]}
@@ -284,8 +285,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
           pair.child_images = &child_images;
         }
         try {
-          const Eigen::MatrixXd parent = options.parent_surface ? pose_volume(model, options.parent_surface(from))
-                                                                : positions[static_cast<std::size_t>(from)];
+          const Eigen::MatrixXd& parent = positions[static_cast<std::size_t>(from)];
           const Eigen::MatrixXd predicted = motion_prediction(from, parent);
           PairwiseResult result = align_pair(model, parent, query, options.pairwise,
                                              target.has_colors() ? &target.colors : nullptr, pair,
@@ -307,14 +307,14 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       std::optional<PairwiseResult> best = attempt(edge.parent);
       long best_parent = edge.parent;
       Verdict best_verdict = best ? verdict(*best, edge.parent) : Verdict::failed;
-      if (!record.failed_attempts.empty() && options.costs != nullptr && !options.parent_surface) {
+      if (!record.failed_attempts.empty() && options.costs != nullptr) {
         // Next-best neighbours: frames of lower depth (already aligned), by similarity cost.
         std::vector<std::pair<double, long>> candidates;
         for (long other = 0; other < node_count; ++other)
           if (other != edge.parent && usable_parent(other))
             candidates.push_back({(*options.costs)(edge.child, other), other});
         std::sort(candidates.begin(), candidates.end());
-        for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
+        for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.recovery.retries; ++k) {
           const long from = candidates[k].second;
           std::optional<PairwiseResult> retry = attempt(from);
           if (!retry) continue;
@@ -337,8 +337,7 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
       // can hide a limb far from where it went (tiny's run:0 ← jump_high:22 moves a foot 43 cm), so
       // the most similar aligned frame of up to `entry_candidates` other sequences is tried too;
       // the lowest mean residual wins (on tiny's run:0 it separated 80 mm from 30 mm alignments).
-      if (best && record.failed_attempts.empty() && options.entry_candidates > 0 && options.costs != nullptr &&
-          !options.parent_surface && nodes[static_cast<std::size_t>(edge.parent)].sequence != child.sequence) {
+      if (best && record.failed_attempts.empty() && options.recovery.entry_candidates > 0 && options.costs != nullptr && nodes[static_cast<std::size_t>(edge.parent)].sequence != child.sequence) {
         std::map<int, std::pair<double, long>> by_sequence;  // most similar aligned frame per sequence
         for (long other = 0; other < node_count; ++other) {
           const int sequence = nodes[static_cast<std::size_t>(other)].sequence;
@@ -350,14 +349,14 @@ Registration register_capture(const core::Capture& capture, const similarity::Fr
         std::vector<std::pair<double, long>> entries;
         for (const auto& [sequence, candidate] : by_sequence) entries.push_back(candidate);
         std::sort(entries.begin(), entries.end());
-        for (std::size_t k = 0; k < entries.size() && static_cast<int>(k) < options.entry_candidates; ++k) {
+        for (std::size_t k = 0; k < entries.size() && static_cast<int>(k) < options.recovery.entry_candidates; ++k) {
           const std::size_t failures = record.failed_attempts.size();
           std::optional<PairwiseResult> alternative = attempt(entries[k].second);
           record.failed_attempts.resize(failures);  // an alternative that fails is no failure of the frame
           ++record.entry_attempts;
           if (alternative && verdict(*alternative, entries[k].second) == Verdict::pass &&
               alternative->mean_residual < best->mean_residual &&
-              alternative->uncovered_fraction <= best->uncovered_fraction + options.max_uncovered / 4) {
+              alternative->uncovered_fraction <= best->uncovered_fraction + options.failure.max_uncovered / 4) {
             best = std::move(alternative);
             best_parent = entries[k].second;
           }

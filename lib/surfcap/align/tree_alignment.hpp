@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
-#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,45 +34,96 @@ struct AlignmentTree {
 /// nodes with parents before children; bad_input names the file.
 AlignmentTree read_alignment_tree(const std::filesystem::path& database, long node_count);
 
+/// When an aligned child has failed (FailureOptions) and what is tried then (RecoveryOptions).
+/// A child whose alignment throws (solver failure), ends with a mean residual above
+/// `failure_residual_mm`, leaves more than `max_uncovered` of its reconstruction's vertices
+/// uncovered (PairwiseResult::uncovered_fraction) or more than `max_stacked` of the template's in
+/// stacked layers (PairwiseResult::stacked_fraction: a hand pushed up its forearm) has failed; one
+/// whose mean residual grew beyond `residual_growth` × its parent's (not from the root) is retried
+/// too.
+struct FailureOptions {
+  double failure_residual_mm = 4;
+  double max_uncovered = 0.01;
+  double max_stacked = 0.005;
+  std::optional<double> residual_growth = 1.3;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("failure_residual_mm", self.failure_residual_mm,
+            "Mean residual above which a frame is re-aligned from its next most similar aligned frame", Range::above(0));
+    t.field("max_uncovered", self.max_uncovered,
+            "Fraction of a reconstruction left uncovered by the aligned template above which a frame failed",
+            Range::closed(0, 1));
+    t.field("max_stacked", self.max_stacked,
+            "Fraction of the template's vertices in stacked layers above which a frame failed", Range::above_to(0, 1));
+    t.field("residual_growth", self.residual_growth,
+            "A frame whose mean residual exceeds this many times its parent's is retried", Range::above(0));
+  }
+};
+
+/// A failed child is aligned again from the next most similar frames already aligned (a lower
+/// depth, by RegisterOptions::costs), up to `retries` times; of the attempts that did not fail the
+/// lowest mean residual is kept, and if all failed the tree parent's. An edge whose parent is in
+/// another sequence than its child is also aligned from the most similar already aligned frame of
+/// up to `entry_candidates` other sequences; the attempt with the lowest mean residual is kept.
+struct RecoveryOptions {
+  int retries = 2;
+  int entry_candidates = 2;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.field("retries", self.retries, "Alternative parents tried for a failed frame", core::Range::closed(0, 10));
+    t.field("entry_candidates", self.entry_candidates,
+            "An edge from another sequence is also aligned from the most similar frame of up to N other sequences",
+            core::Range::closed(0, 10));
+  }
+};
+
+/// Motion prediction along the tree: when a child's parent and grandparent are its next two frames
+/// of the same sequence (frames f+1, f+2 → f, or f−1, f−2 → f), the child is predicted at parent +
+/// `motion_prediction` × (parent − grandparent), per vertex, and the coarsest patch levels also try
+/// that start (PredictionOptions::levels). A limb that moves farther in a frame than the patch gate
+/// (a running stride) is matched where it went. With `twin_prediction`, also when the child is not
+/// the frame after parent and grandparent but costs (by RegisterOptions::costs) at most this
+/// fraction of its cost to the parent from that frame: a twin a cycle apart of a cyclic motion.
+struct MotionPredictionOptions {
+  std::optional<double> motion_prediction = 1.0;
+  std::optional<double> twin_prediction = 0.25;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.field("motion_prediction", self.motion_prediction,
+            "Predict a child from its next two aligned frames: parent + this x (parent - grandparent)",
+            core::Range::above_to(0, 2));
+    t.field("twin_prediction", self.twin_prediction,
+            "Also predict a child whose similarity cost to its parent's next frame is at most this fraction of its "
+            "cost to the parent (a cycle's twin)",
+            core::Range::above_to(0, 1));
+  }
+};
+
 struct RegisterOptions {
   PairwiseOptions pairwise;
   DeformerOptions deformer;
-  int threads = 0;  ///< ≤ 0: all hardware threads
-  bool images = true;  ///< use camera-image features when the capture has images
-  /// Recoverable failures (issue 10): a child whose alignment throws (solver failure), ends with a
-  /// mean residual above `failure_residual` (m), leaves more than `max_uncovered` of its
-  /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) or stacks more than
-  /// `max_stacked` (below) has failed; one whose residual grew beyond `residual_growth` × its
-  /// parent's is retried too. It is aligned again from the next most similar frames already aligned
-  /// (a lower depth, by `costs`), up to `retries` times; of the attempts that did not fail the lowest
-  /// mean residual is kept, and if all failed the tree parent's.
-  double failure_residual = 0.004;
-  double max_uncovered = 0.01;  ///< or more than this fraction of the reconstruction is not covered (1: off)
-  /// … or more than this fraction of the template's vertices lie in stacked layers
-  /// (PairwiseResult::stacked_fraction: a hand pushed up its forearm; 1: off) …
-  double max_stacked = 0.005;
-  /// … or its mean residual is more than this many times its parent's (an edge that fits clearly
-  /// worse than the one before it; not from the root; ≤ 0: off).
-  double residual_growth = 1.3;
-  int retries = 2;
+  bool images = true;  ///< use camera-image features and appearance flow when the capture has images
+  FailureOptions failure;
+  RecoveryOptions recovery;
+  MotionPredictionOptions motion;
+  int threads = 0;  ///< ≤ 0: all hardware threads (no effect on the output; not in the table)
   const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
-  /// Motion prediction along the tree: when a child's parent and grandparent are its next two
-  /// frames of the same sequence (frames f+1, f+2 → f, or f−1, f−2 → f), the child is predicted at
-  /// parent + `motion_prediction` × (parent − grandparent), per vertex, and the coarsest patch
-  /// levels also try that start (PairwiseOptions::prediction_levels; ≤ 0: off). A limb that moves
-  /// farther in a frame than the patch gate (a running stride) is matched where it went.
-  double motion_prediction = 1.0;
-  /// … and also when the child is not the frame after parent and grandparent but costs (by `costs`)
-  /// at most this fraction of its cost to the parent from that frame: a twin a cycle apart of a
-  /// cyclic motion (0: next frames only).
-  double twin_prediction = 0.25;
-  /// An edge whose parent is in another sequence than its child is also aligned from the most
-  /// similar already aligned frame of up to this many other sequences (by `costs`); the attempt
-  /// with the lowest mean residual is kept (0: the tree parent only).
-  int entry_candidates = 2;
-  /// Diagnostics: when set, every child is aligned from the template surface this returns for its
-  /// parent node (e.g. the ground truth) instead of from the aligned parent — each edge's own error.
-  std::function<Eigen::MatrixXd(long node)> parent_surface;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.inline_group(self.pairwise);
+    t.inline_group(self.deformer);
+    t.field("images", self.images, "Use the capture's camera images (SIFT features, appearance flow)");
+    t.inline_group(self.failure);
+    t.inline_group(self.recovery);
+    t.inline_group(self.motion);
+  }
+  void validate() const { core::validate_options(*this); }
+  core::Json to_json() const { return core::options_to_json(*this); }
 };
 
 /// One aligned frame, as the report lists it.

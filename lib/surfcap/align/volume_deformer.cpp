@@ -27,7 +27,7 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
   std::string fallback_reason = "volumetric model disabled";
   const Eigen::SparseMatrix<double> surface_gradient = geometry::gradient_operator(template_mesh.V, template_mesh.F);
   const Eigen::VectorXd areas = core::face_areas(template_mesh.V, template_mesh.F);
-  if (options.volumetric) {
+  if (!options.surface_model) {
     try {
       const geometry::TetMesh tets = geometry::tetrahedralise(template_mesh.V, template_mesh.F, options.tetrahedra);
       rest_ = tets.V;

@@ -57,14 +57,14 @@ TEST(TreeAlignment, ATwinOfTheParentsNextFrameIsAlignedFromTheMotionPrediction) 
   RegisterOptions options;
   options.images = false;
   options.threads = 1;
-  options.retries = 0;
-  options.entry_candidates = 0;
+  options.recovery.retries = 0;
+  options.recovery.entry_candidates = 0;
   options.costs = &costs;
-  auto align = [&](double twin) {
-    options.twin_prediction = twin;
+  auto align = [&](std::optional<double> twin) {
+    options.motion.twin_prediction = twin;
     return register_capture(data.capture, frames, tree, options);
   };
-  const Registration with = align(0.25), without = align(0.0);
+  const Registration with = align(0.25), without = align(std::nullopt);
   const Eigen::MatrixXd& rest = with.database.template_mesh.V;
   const Eigen::MatrixXd truth = testing::deform_points(rest, 2 * b + 0.002, 0.0, cycle);
   auto rms = [&](const Registration& r) {
@@ -74,7 +74,7 @@ TEST(TreeAlignment, ATwinOfTheParentsNextFrameIsAlignedFromTheMotionPrediction) 
   const Eigen::MatrixXd parent_truth = testing::deform_points(rest, b, 0.0, still);
   const Eigen::MatrixXd twin_of_next = testing::deform_points(rest, 2 * b, 0.0, still);
   ASSERT_GT(std::sqrt((parent_truth - twin_of_next).rowwise().squaredNorm().maxCoeff()),
-            2 * options.pairwise.coarse_distance * height);
+            2 * options.pairwise.coarse_distance_height * height);
   // The parent's own error (its edge from the root has no prediction) is carried into the child.
   const double parent_rms = std::sqrt((with.world_positions[1] - parent_truth).rowwise().squaredNorm().mean());
   EXPECT_FALSE(without.frames[3].alignment.predicted);
