@@ -113,4 +113,8 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
                          const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
                          const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options);
 
+/// Sets the targets of the vertices with flow support (weight × min(1, support)), overriding any
+/// other target there; returns how many.
+long set_flow_targets(const FlowTargets& flow, double weight, Eigen::MatrixXd& targets, Eigen::VectorXd& weights);
+
 }  // namespace surfcap::align
