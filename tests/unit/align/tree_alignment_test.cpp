@@ -39,8 +39,8 @@ struct BendingCapture {
 TEST(TreeAlignment, ATwinOfTheParentsNextFrameIsAlignedFromTheMotionPrediction) {
   // Frames 0, 1, 2 bend at constant velocity (the ends move 0.32 m a frame, farther than twice the
   // coarsest patch gate); frame 3 is frame 2 a cycle later, 1.2 m farther on. The tree links 3 to 1
-  // (as demo's run links run:28, run:10's twin, to run:11): no temporal neighbour, but one step of
-  // 0 → 1's motion.
+  // (as the tree of a cyclic motion links a frame to the one before its twin): no temporal
+  // neighbour, but one step of 0 → 1's motion.
   const double b = 0.4;
   const Eigen::Vector3d still = Eigen::Vector3d::Zero(), cycle(1.2, 0.0, 0.3);
   const BendingCapture data("twin", {0.0, b, 2 * b, 2 * b + 0.002}, {still, still, still, cycle});
