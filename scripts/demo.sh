@@ -5,11 +5,10 @@
 # Usage: scripts/demo.sh [OUT_DIR]   (default out/demo)
 # Environment:
 #   DATABASE=aligned|truth  which database the stages after alignment read (default aligned: the
-#                           output of surfcap-align, 0.83 % RMS / 1.91 % worst frame of the height
-#                           on this capture, docs/align.md "Status"; truth: the capture's ground
+#                           output of surfcap-align, 0.4905 % RMS / 1.075 % worst frame of the
+#                           height on this capture, docs/align.md; truth: the capture's ground
 #                           truth, to compare the later stages without the alignment's error)
-#   ROOT (default walk:0)   the template frame: a stride of the walk aligns the demo far better than
-#                           the automatic root (docs/align.md "Status": 0.83 % vs 3.52 % RMS)
+#   ROOT (default walk:0)   the template frame: a stride of the walk (docs/align.md)
 #   JOBS (default nproc)    parallel make jobs; THREADS (default 2) threads per step
 #   SUBMIT                  command prefix of the heavy steps (e.g. "srun -c 2", docs/pipelines.md)
 set -euo pipefail

@@ -3,15 +3,10 @@
 # register, with the camera images (SIFT features, appearance flow); checks the aligned database
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # the automatic root, and exit codes. The template is a stride of the walk (--root walk:0, as
-# scripts/demo.sh does). The error bounds guard the level reached
-# today: measured RMS 1.28% of the height, worst frame 2.87%, with the soft-constraint weights of
-# session 6 (0.3 × session 5's). The figures are chaotic: with the coverage weight at 0.89, 0.91 or
-# 0.8999999999999999 (3 × 0.3 in floating point) instead of 0.9, or the dense weight at 0.301, the
-# RMS was 1.18–1.22% and the worst frame 2.01–2.71% (docs/align.md "Status"). Session 5: 1.59% /
-# 2.73%; session 4: 1.58% / 2.38%; the ASan build synthesises another tiny capture (1.63% / 2.63%
-# in session 5). Bounds 1.8% / 3.6%. Of the issue's targets only the worst frame (2%) is met, on
-# demo; the RMS (0.5%) is met on neither capture. Session 13's defaults (crease matching, stacked-
-# layer and residual-growth checks): 0.978% / 2.110% (run:0) on today's tiny capture.
+# scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %) leave room
+# above the figures docs/align.md gives for tiny (0.928 % / 1.760 %): single hard edges move them
+# by tenths of a percent with small changes of the method, and the sanitizer build synthesises
+# another tiny capture.
 set -euo pipefail
 build=$1
 synth=$build/tools/surfcap-synth
@@ -73,8 +68,8 @@ perl -MJSON::PP -e '
   die "appearance flow on only $with_flow frames\n" if $with_flow < 0.9 * (@$frames - 1);
   die "colour-aware patch fits on only $with_colour frames\n" if $with_colour < 0.9 * (@$frames - 1);
   die "no failure summary\n" unless defined $r->{summary}{frames_with_failed_attempts};
-  # Motion prediction: offered on the temporal chains of the tree (measured 60 of 91 edges, 150
-  # patches took the predicted start); entry candidates on the edges between sequences (21 frames).
+  # Motion prediction is offered on the temporal chains of the tree (about two thirds of the
+  # edges), entry candidates on the edges between sequences.
   die "motion prediction on only $r->{summary}{frames_predicted} frames\n" if $r->{summary}{frames_predicted} < 30;
   die "no patch took the predicted start\n" unless $r->{summary}{predicted_patches} > 0;
   my $entries = grep { $_->{entry_attempts} > 0 } @$frames;
@@ -84,34 +79,30 @@ perl -MJSON::PP -e '
 # Deterministic: registering again on one thread gives byte-identical arrays.
 mkdir -p "$work/db1/similarity"
 cp "$work/db/similarity/"{histograms.npy,histograms.json,matrix.npy,tree.json} "$work/db1/similarity/"
-# With --edge-diagnostics (the edges aligned again from their true parents) on top; the database
-# it writes is the tree's, so the comparison below still holds.
 "$align" register --out "$work/db1" --capture "$work/capture" --threads 1 --preview-frames 0 --truth-arrays \
-  --edge-diagnostics --log-level warn
+  --log-level warn
 n=$(perl -ne 'print $1 if /^element vertex (\d+)/' "$work/db1/template.ply")
 head -c 128 "$work/db1/report/truth_errors.npy" | grep -aq "'shape': (92, $n, 3)" || { echo "truth_errors.npy shape"; exit 1; }
 head -c 128 "$work/db1/report/truth_observed.npy" | grep -aq "'shape': (92, $n)" || { echo "truth_observed.npy shape"; exit 1; }
-head -c 128 "$work/db1/report/edge_truth_errors.npy" | grep -aq "'shape': (92, $n, 3)" || { echo "edge_truth_errors.npy shape"; exit 1; }
-# The arrays hold the errors the report sums up: their RMS is the report's rms_m / edge_rms_m.
+# The array holds the errors the report sums up: its RMS is the report's rms_m.
 perl -MJSON::PP -e '
   sub rms { open(my $f, "<:raw", $_[0]) or die; local $/; my $b = <$f>;
             my $h = unpack("v", substr($b, 8, 2)); my @e = unpack("f<*", substr($b, 10 + $h));
             my $s = 0; $s += $_ * $_ for @e; return sqrt($s / (@e / 3)); }
   local $/; open(my $f, "<", "$ARGV[0]/alignment.json") or die; my $g = decode_json(<$f>)->{ground_truth};
-  for (["truth_errors", $g->{rms_m}], ["edge_truth_errors", $g->{edge_rms_m}]) {
+  for (["truth_errors", $g->{rms_m}]) {
     my ($name, $want) = @$_; my $got = rms("$ARGV[0]/$name.npy");
     printf "%s.npy RMS %.3f mm (report %.3f mm)\n", $name, 1000 * $got, 1000 * $want;
     die "$name.npy does not hold the report'"'"'s errors\n" if abs($got - $want) > 1e-4 * $want;
   }
-  die "edges from the true parents no better than accumulated\n" unless $g->{edge_rms_m} < $g->{rms_m};
 ' "$work/db1/report"
 for f in sequences/walk.npy sequences/walk.root.npy sequences/run.npy sequences/jump_high.npy template.ply; do
   cmp "$work/db/$f" "$work/db1/$f" || { echo "$f differs between thread counts"; exit 1; }
 done
 
 # The automatic root (no --root): the shallowest frame of the widest-stance quarter, a stride of
-# the walk on tiny (walk:22, measured 1.26% / 2.11% when aligned from; the unrestricted minimal
-# weighted depth is the landing crouch jump_low:20).
+# the walk on tiny (walk:22; the unrestricted minimal weighted depth is the landing crouch
+# jump_low:20).
 "$align" tree --out "$work/db1" --log-level warn
 perl -MJSON::PP -e '
   local $/; open(my $f, "<", $ARGV[0]) or die; my $t = decode_json(<$f>);

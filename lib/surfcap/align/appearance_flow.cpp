@@ -72,18 +72,6 @@ Eigen::Vector3d weighted_median(std::vector<std::pair<Eigen::Vector3d, double>>&
 
 }  // namespace
 
-void FlowOptions::validate() const {
-  auto require = [](bool ok, const char* what) {
-    if (!ok) throw core::bad_arguments(std::string("flow option: ") + what);
-  };
-  require(iterations >= 0, "flow iterations must be ≥ 0");
-  require(stride >= 1 && stride <= 16, "flow stride must be in 1..16");
-  require(consistency_px > 0, "flow consistency must be > 0 pixels");
-  require(margin_px >= 0, "flow margin must be ≥ 0 pixels");
-  require(max_offset_edges > 0 && visibility_edges > 0, "flow distances must be > 0");
-  require(min_facing >= 0 && min_facing < 1, "flow minimum facing must be in [0, 1)");
-}
-
 std::optional<double> GreyImage::sample(double x, double y) const {
   if (!(x >= 0 && y >= 0 && x <= width - 1 && y <= height - 1)) return std::nullopt;
   const int x0 = std::min(static_cast<int>(x), width - 2 < 0 ? 0 : width - 2);
@@ -180,6 +168,121 @@ std::optional<double> TemplateAppearance::sample(long face, const Eigen::Vector3
   return sum / weights;
 }
 
+namespace {
+
+/// What the template at `surface` looks like in `camera` (index `c`, the child's `actual` image
+/// for the background): per pixel the root appearance of its template point, the point itself
+/// (barycentric in the face `seen` shows) and whether it is usable (1), shown but too grazing (2)
+/// or not the template's (0). Empty when no pixel shows an appearance.
+struct CameraPrediction {
+  GreyImage image;
+  std::vector<Eigen::Vector3d> barycentric;
+  std::vector<char> valid;
+};
+
+std::optional<CameraPrediction> predict_camera(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
+                                               const Eigen::MatrixXi& F, const Eigen::MatrixXd& normals,
+                                               const render::Rendering& seen, const render::Camera& camera,
+                                               std::size_t c, const GreyImage& actual, const FlowOptions& options) {
+  const int w = camera.width, h = camera.height;
+  // Elsewhere the child's background (median of its border pixels); template points no root
+  // camera saw get the mean appearance.
+  std::vector<float> border;
+  for (int x = 0; x < w; ++x) border.insert(border.end(), {actual.at(x, 0), actual.at(x, h - 1)});
+  for (int y = 0; y < h; ++y) border.insert(border.end(), {actual.at(0, y), actual.at(w - 1, y)});
+  std::nth_element(border.begin(), border.begin() + static_cast<long>(border.size() / 2), border.end());
+  const float background = border[border.size() / 2];
+  CameraPrediction prediction{
+      GreyImage{w, h, std::vector<float>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), background)}, {}, {}};
+  GreyImage& predicted = prediction.image;
+  prediction.barycentric.assign(predicted.pixels.size(), Eigen::Vector3d::Constant(-1));
+  prediction.valid.assign(predicted.pixels.size(), 0);
+  double valid_sum = 0;
+  long valid_count = 0;
+  const Eigen::Vector3d centre = camera.centre();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+      const int f = seen.face[i];
+      if (f < 0) continue;
+      const Eigen::Vector3d a = surface.row(F(f, 0)), b = surface.row(F(f, 1)), d = surface.row(F(f, 2));
+      const Eigen::Vector3d normal = normals.row(f).transpose();
+      const Eigen::Vector3d ray = pixel_ray(camera, x, y);
+      const double along = normal.dot(ray);
+      if (std::abs(along) < 1e-9) continue;
+      const Eigen::Vector3d hit = centre + ray * (normal.dot(a - centre) / along);
+      prediction.barycentric[i] = geometry::barycentric_coordinates(hit, a, b, d);
+      const auto value = appearance.value(f, prediction.barycentric[i], static_cast<int>(c));
+      if (!value) continue;
+      predicted.pixels[i] = static_cast<float>(*value);
+      prediction.valid[i] = static_cast<char>(-along >= options.min_facing ? 1 : 2);
+      valid_sum += *value;
+      ++valid_count;
+    }
+  if (valid_count == 0) return std::nullopt;
+  const float fill = static_cast<float>(valid_sum / static_cast<double>(valid_count));
+  for (std::size_t i = 0; i < predicted.pixels.size(); ++i)
+    if (seen.face[i] >= 0 && prediction.valid[i] == 0) predicted.pixels[i] = fill;
+  return prediction;
+}
+
+/// The template's bounding box in the rendering plus `margin` pixels, within the image: flow only
+/// there (the actor covers a small part of a studio image).
+cv::Rect flow_box(const render::Rendering& seen, int w, int h, int margin) {
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+  x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
+  x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
+  return cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+}
+
+/// Per template vertex, the offsets (and barycentric weights) of the forward-backward consistent
+/// flow pixels of one camera: the moved pixel's ray hits the child's reconstruction there.
+void collect_offsets(const CameraPrediction& prediction, const render::Rendering& seen, const render::Camera& camera,
+                     const cv::Rect& box, const cv::Mat& forward, const cv::Mat& backward,
+                     const Eigen::MatrixXd& surface, const Eigen::MatrixXi& F, const Eigen::MatrixXd& normals,
+                     const geometry::SurfaceQuery& child, double max_offset, const FlowOptions& options,
+                     std::vector<std::vector<std::pair<Eigen::Vector3d, double>>>& offsets, long& pixels) {
+  const int w = camera.width;
+  const int x0 = box.x, y0 = box.y, x1 = box.x + box.width - 1, y1 = box.y + box.height - 1;
+  const Eigen::Vector3d centre = camera.centre();
+  const double tolerance2 = options.consistency_px * options.consistency_px;
+  for (int y = y0; y <= y1; y += options.stride)
+    for (int x = x0; x <= x1; x += options.stride) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+      if (prediction.valid[i] != 1) continue;
+      const cv::Point2f flow = forward.at<cv::Point2f>(y - y0, x - x0);
+      const double qx = x + flow.x, qy = y + flow.y;
+      if (!(qx >= x0 && qy >= y0 && qx <= x1 && qy <= y1)) continue;
+      // Forward-backward check at the nearest pixel of the moved point.
+      const cv::Point2f back = backward.at<cv::Point2f>(static_cast<int>(std::lround(qy)) - y0,
+                                                        static_cast<int>(std::lround(qx)) - x0);
+      const double ex = flow.x + back.x, ey = flow.y + back.y;
+      if (ex * ex + ey * ey > tolerance2) continue;
+      const Eigen::Vector3d ray = pixel_ray(camera, qx, qy);
+      const auto target = child.first_hit(centre, ray);
+      if (!target) continue;
+      const Eigen::Vector3d target_normal = child.face_normal(target->face);
+      if (-target_normal.dot(ray) < options.min_facing) continue;
+      const int f = seen.face[i];
+      if (target_normal.dot(normals.row(f).transpose()) < options.normal_compatibility) continue;
+      const Eigen::Vector3d& b = prediction.barycentric[i];
+      const Eigen::Vector3d point = b[0] * surface.row(F(f, 0)).transpose() + b[1] * surface.row(F(f, 1)).transpose() +
+                                    b[2] * surface.row(F(f, 2)).transpose();
+      const Eigen::Vector3d offset = target->position - point;
+      if (offset.norm() > max_offset) continue;
+      for (int k = 0; k < 3; ++k)
+        if (b[k] > 1e-3) offsets[static_cast<std::size_t>(F(f, k))].push_back({offset, b[k]});
+      ++pixels;
+    }
+}
+
+}  // namespace
+
 FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
                          const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
                          const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options) {
@@ -190,7 +293,6 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
   const auto& cameras = appearance.cameras();
   if (child_images.size() != cameras.size()) return result;
   const Eigen::MatrixXd normals = face_normals(surface, F);
-  const double max_offset = options.max_offset_edges * mean_edge;
   std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> offsets(static_cast<std::size_t>(n));
   const cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
   dis->setFinestScale(0);
@@ -198,89 +300,15 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
     const render::Camera& camera = cameras[c];
     const GreyImage& actual = child_images[c];
     const render::Rendering seen = visibility(surface, F, camera);
-    const int w = camera.width, h = camera.height;
-    // The prediction: template points with their root appearance; elsewhere the child's background
-    // (median of its border pixels), and template points no root camera saw get the mean appearance.
-    std::vector<float> border;
-    for (int x = 0; x < w; ++x) border.insert(border.end(), {actual.at(x, 0), actual.at(x, h - 1)});
-    for (int y = 0; y < h; ++y) border.insert(border.end(), {actual.at(0, y), actual.at(w - 1, y)});
-    std::nth_element(border.begin(), border.begin() + static_cast<long>(border.size() / 2), border.end());
-    const float background = border[border.size() / 2];
-    GreyImage predicted{w, h, std::vector<float>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), background)};
-    std::vector<Eigen::Vector3d> barycentric(predicted.pixels.size(), Eigen::Vector3d::Constant(-1));
-    std::vector<char> valid(predicted.pixels.size(), 0);
-    double valid_sum = 0;
-    long valid_count = 0;
-    const Eigen::Vector3d centre = camera.centre();
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-        const int f = seen.face[i];
-        if (f < 0) continue;
-        const Eigen::Vector3d a = surface.row(F(f, 0)), b = surface.row(F(f, 1)), d = surface.row(F(f, 2));
-        const Eigen::Vector3d normal = normals.row(f).transpose();
-        const Eigen::Vector3d ray = pixel_ray(camera, x, y);
-        const double along = normal.dot(ray);
-        if (std::abs(along) < 1e-9) continue;
-        const Eigen::Vector3d hit = centre + ray * (normal.dot(a - centre) / along);
-        barycentric[i] = geometry::barycentric_coordinates(hit, a, b, d);
-        const auto value = appearance.value(f, barycentric[i], options.same_camera ? static_cast<int>(c) : -1);
-        if (!value) continue;
-        predicted.pixels[i] = static_cast<float>(*value);
-        valid[i] = static_cast<char>(-along >= options.min_facing ? 1 : 2);  // 2: shown, but too grazing to use
-        valid_sum += *value;
-        ++valid_count;
-      }
-    if (valid_count == 0) continue;
-    const float fill = static_cast<float>(valid_sum / static_cast<double>(valid_count));
-    for (std::size_t i = 0; i < predicted.pixels.size(); ++i)
-      if (seen.face[i] >= 0 && valid[i] == 0) predicted.pixels[i] = fill;
-
-    // Flow only in the template's bounding box (plus a margin for the motion): the actor covers a
-    // small part of a studio image.
-    int x0 = w, y0 = h, x1 = -1, y1 = -1;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0) {
-          x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-        }
-    const int margin = options.margin_px;
-    x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
-    x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
-    const cv::Rect box(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
-    const cv::Mat from = to_mat(predicted)(box).clone(), to = to_mat(actual)(box).clone();
+    const auto prediction = predict_camera(appearance, surface, F, normals, seen, camera, c, actual, options);
+    if (!prediction) continue;
+    const cv::Rect box = flow_box(seen, camera.width, camera.height, options.margin_px);
+    const cv::Mat from = to_mat(prediction->image)(box).clone(), to = to_mat(actual)(box).clone();
     cv::Mat forward, backward;
     dis->calc(from, to, forward);
     dis->calc(to, from, backward);
-    const double tolerance2 = options.consistency_px * options.consistency_px;
-    for (int y = y0; y <= y1; y += options.stride)
-      for (int x = x0; x <= x1; x += options.stride) {
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-        if (valid[i] != 1) continue;
-        const cv::Point2f flow = forward.at<cv::Point2f>(y - y0, x - x0);
-        const double qx = x + flow.x, qy = y + flow.y;
-        if (!(qx >= x0 && qy >= y0 && qx <= x1 && qy <= y1)) continue;
-        // Forward-backward check at the nearest pixel of the moved point.
-        const cv::Point2f back = backward.at<cv::Point2f>(static_cast<int>(std::lround(qy)) - y0,
-                                                          static_cast<int>(std::lround(qx)) - x0);
-        const double ex = flow.x + back.x, ey = flow.y + back.y;
-        if (ex * ex + ey * ey > tolerance2) continue;
-        const Eigen::Vector3d ray = pixel_ray(camera, qx, qy);
-        const auto target = child.first_hit(centre, ray);
-        if (!target) continue;
-        const Eigen::Vector3d target_normal = child.face_normal(target->face);
-        if (-target_normal.dot(ray) < options.min_facing) continue;
-        const int f = seen.face[i];
-        if (target_normal.dot(normals.row(f).transpose()) < options.normal_compatibility) continue;
-        const Eigen::Vector3d& b = barycentric[i];
-        const Eigen::Vector3d point = b[0] * surface.row(F(f, 0)).transpose() + b[1] * surface.row(F(f, 1)).transpose() +
-                                      b[2] * surface.row(F(f, 2)).transpose();
-        const Eigen::Vector3d offset = target->position - point;
-        if (offset.norm() > max_offset) continue;
-        for (int k = 0; k < 3; ++k)
-          if (b[k] > 1e-3) offsets[static_cast<std::size_t>(F(f, k))].push_back({offset, b[k]});
-        ++result.pixels;
-      }
+    collect_offsets(*prediction, seen, camera, box, forward, backward, surface, F, normals, child,
+                    options.max_offset_edges * mean_edge, options, offsets, result.pixels);
   }
   for (long v = 0; v < n; ++v) {
     auto& values = offsets[static_cast<std::size_t>(v)];
@@ -291,6 +319,17 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
     result.targets.row(v) = surface.row(v) + weighted_median(values).transpose();
   }
   return result;
+}
+
+long set_flow_targets(const FlowTargets& flow, double weight, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {
+  long vertices = 0;
+  for (long v = 0; v < targets.rows(); ++v) {
+    if (flow.support(v) <= 0) continue;
+    targets.row(v) = flow.targets.row(v);
+    weights(v) = weight * std::min(1.0, flow.support(v));
+    ++vertices;
+  }
+  return vertices;
 }
 
 }  // namespace surfcap::align

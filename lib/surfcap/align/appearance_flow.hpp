@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "surfcap/core/capture.hpp"
+#include "surfcap/core/option_table.hpp"
 #include "surfcap/core/mesh.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 #include "surfcap/render/camera.hpp"
@@ -20,9 +21,9 @@
 namespace surfcap::align {
 
 struct FlowOptions {
-  double weight = 0.6;             ///< soft-constraint weight of a flow target (relative to L's diagonal); ≤ 0: off
+  /// Soft-constraint weight of a flow target (relative to L's diagonal); off: no flow iterations.
+  std::optional<double> weight = 0.6;
   int iterations = 3;              ///< flow iterations after the dense fit (render, flow, solve)
-  int patch_levels = 0;            ///< also at the last this many rigid-patch levels (with the patch targets)
   int stride = 1;                  ///< pixel step of the constraint grid
   int margin_px = 24;              ///< flow is computed in the template's image bounding box plus this margin
   double consistency_px = 0.5;     ///< max disagreement of the forward and backward flow, pixels
@@ -30,10 +31,26 @@ struct FlowOptions {
   double min_facing = 0.3;         ///< cosine between surface normal and view ray (root, template and child)
   double visibility_edges = 0.3;   ///< depth tolerance of the root cameras' visibility test (mean edges)
   double normal_compatibility = 0.5;  ///< cosine between the template's and the reconstruction's normals
-  /// Camera c's prediction takes root camera c's own sample where that camera saw the point (a point's
-  /// grey value differs between cameras under view-dependent lighting); false: the blend everywhere.
-  bool same_camera = true;
-  void validate() const;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("weight", self.weight, "Weight of the appearance-flow targets", Range::above(0));
+    t.field("iterations", self.iterations, "Appearance-flow iterations after the dense fit", Range::at_least(0));
+    t.field("stride", self.stride, "Pixel step of the appearance-flow constraints", Range::closed(1, 16));
+    t.field("margin_px", self.margin_px, "Flow computed in the template's image box plus this margin (pixels)",
+            Range::at_least(0));
+    t.field("consistency_px", self.consistency_px, "Max disagreement of forward and backward flow (pixels)",
+            Range::above(0));
+    t.field("max_offset_edges", self.max_offset_edges,
+            "Flow targets farther than this from their template point are dropped (mean edges)", Range::above(0));
+    t.field("min_facing", self.min_facing, "Minimum cosine between surface normal and view ray",
+            Range::from_below(0, 1));
+    t.field("visibility_edges", self.visibility_edges, "Depth tolerance of the root cameras' visibility (mean edges)",
+            Range::above(0));
+    t.field("normal_compatibility", self.normal_compatibility,
+            "Minimum cosine between template and reconstruction normals of a flow target", Range::closed(-1, 1));
+  }
 };
 
 /// A grey image (0..1), row-major.
@@ -95,5 +112,9 @@ struct FlowTargets {
 FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
                          const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
                          const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options);
+
+/// Sets the targets of the vertices with flow support (weight × min(1, support)), overriding any
+/// other target there; returns how many.
+long set_flow_targets(const FlowTargets& flow, double weight, Eigen::MatrixXd& targets, Eigen::VectorXd& weights);
 
 }  // namespace surfcap::align

@@ -101,25 +101,14 @@ std::vector<int> straight_crease_vertices(const Eigen::MatrixXd& V, const std::v
   return straight;
 }
 
-CreaseLines::CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach,
-                         double straight_radius, double max_ratio)
+CreaseLines::CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach)
     : V_(V) {
   if (!(reach > 0)) throw core::internal_error("CreaseLines: reach must be > 0");
   std::vector<DihedralEdge> creases;
   for (const DihedralEdge& edge : dihedral_edges(V, F))
     if (edge.convex_angle > min_angle) creases.push_back(edge);
-  std::vector<char> straight(static_cast<std::size_t>(V.rows()), 1);
-  if (max_ratio < 1) {
-    std::vector<int> ends;
-    for (const DihedralEdge& edge : creases) ends.insert(ends.end(), {edge.a, edge.b});
-    std::sort(ends.begin(), ends.end());
-    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
-    std::fill(straight.begin(), straight.end(), 0);
-    for (const int v : straight_crease_vertices(V, ends, straight_radius, max_ratio)) straight[static_cast<std::size_t>(v)] = 1;
-  }
   double longest = 0;
   for (const DihedralEdge& edge : creases) {
-    if (!straight[static_cast<std::size_t>(edge.a)] || !straight[static_cast<std::size_t>(edge.b)]) continue;
     edges_.push_back({edge.a, edge.b});
     bisectors_.push_back((edge.n1 + edge.n2).normalized());
     longest = std::max(longest, (V.row(edge.a) - V.row(edge.b)).norm());

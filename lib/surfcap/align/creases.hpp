@@ -31,12 +31,10 @@ std::vector<int> straight_crease_vertices(const Eigen::MatrixXd& V, const std::v
                                           double max_ratio);
 
 /// The convex crease edges of a surface (dihedral angle > `min_angle`), binned for closest-point
-/// queries within `reach` (m). With `max_ratio` < 1 only edges whose two ends are straight crease
-/// vertices (straight_crease_vertices with `straight_radius`) are kept.
+/// queries within `reach` (m).
 class CreaseLines {
  public:
-  CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach,
-              double straight_radius = 0, double max_ratio = 1);
+  CreaseLines(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double min_angle, double reach);
   long edge_count() const { return static_cast<long>(edges_.size()); }
 
   /// The closest point to `p` on a crease edge within `max_distance` (≤ reach) whose bisector

@@ -129,7 +129,7 @@ std::vector<FeatureMatch> match_features(const FrameFeatures& parent, const Fram
   const Neighbours forward = two_nearest(child.descriptors, parent.descriptors);
   const Neighbours backward = two_nearest(parent.descriptors, child.descriptors);
   const float ratio2 = static_cast<float>(options.ratio * options.ratio);
-  const double max_displacement = options.max_displacement * height;
+  const double max_displacement = options.max_displacement_height * height;
   for (long p = 0; p < parent.size(); ++p) {
     const auto& [best, second] = forward.index[static_cast<std::size_t>(p)];
     if (best < 0) continue;
@@ -151,7 +151,7 @@ std::vector<FeatureMatch> match_features(const FrameFeatures& parent, const Fram
     origin.row(i) = predicted.row(candidates[static_cast<std::size_t>(i)].parent);
     displacement.row(i) = child.points.row(candidates[static_cast<std::size_t>(i)].child) - origin.row(i);
   }
-  const double tolerance = options.neighbour_tolerance * height;
+  const double tolerance = options.neighbour_tolerance_height * height;
   std::vector<FeatureMatch> accepted;
   std::vector<std::pair<double, long>> order(static_cast<std::size_t>(m));
   for (long i = 0; i < m; ++i) {

@@ -6,21 +6,41 @@
 // neighbours'). OpenCV and FLANN stay inside image_features.cpp.
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "surfcap/core/capture.hpp"
+#include "surfcap/core/option_table.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 
 namespace surfcap::align {
 
 struct FeatureOptions {
+  /// Soft-constraint weight of a feature match, at every level and dense iteration; off: geometry only.
+  std::optional<double> weight = 0.6;
   int max_per_image = 2000;       ///< strongest SIFT keypoints kept per image
-  double min_facing = 0.3;        ///< minimum cosine between the hit's normal and the ray back to the camera
   double ratio = 0.8;             ///< Lowe's ratio test: best / second-best descriptor distance
   int neighbours = 8;             ///< matches compared for the neighbour consistency check
-  double neighbour_tolerance = 0.04;  ///< max deviation from the neighbours' median displacement, fraction of height
-  double max_displacement = 0.35;     ///< matches moving more than this (fraction of height) after the rigid
-                                      ///< initialisation are rejected
+  double neighbour_tolerance_height = 0.04;  ///< max deviation from the neighbours' median displacement
+  double max_displacement_height = 0.35;     ///< matches moving farther after the rigid initialisation are rejected
+  double min_facing = 0.3;        ///< minimum cosine between the hit's normal and the ray back to the camera
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("weight", self.weight, "Weight of image feature matches", Range::above(0));
+    t.field("max_per_image", self.max_per_image, "Strongest SIFT keypoints kept per image", Range::at_least(1));
+    t.field("ratio", self.ratio, "Ratio test of the feature matching", Range::above_to(0, 1));
+    t.field("neighbours", self.neighbours, "Matches compared for the neighbour consistency check",
+            Range::at_least(1));
+    t.field("neighbour_tolerance_height", self.neighbour_tolerance_height,
+            "Max deviation from the neighbours' median displacement (fraction of the height)", Range::above(0));
+    t.field("max_displacement_height", self.max_displacement_height,
+            "Matches moving farther than this after the rigid initialisation are rejected (fraction of the height)",
+            Range::above(0));
+    t.field("min_facing", self.min_facing, "Minimum cosine between the feature's normal and the camera ray",
+            Range::from_below(0, 1));
+  }
 };
 
 /// The features of one frame: 3-D points on its reconstruction, their normals and descriptors.

@@ -1,26 +1,33 @@
 #pragma once
 // Pairwise non-rigid alignment (casas2011 §3.2): the template, already aligned to a parent frame,
-// deformed onto a child frame's reconstruction. Rigid initialisation (with a heading search when
-// the frames face differently), then coarse-to-fine rigid patch matching (30 patches, doubling per
-// level) as soft constraints of the volumetric Laplacian deformer, then a dense fit to the surface.
+// deformed onto a child frame's reconstruction. A rigid initialisation, then a schedule of solves
+// of the volumetric Laplacian deformer (volume_deformer.hpp): coarse-to-fine rigid patch levels,
+// dense iterations and appearance-flow iterations, each step merging the targets of the
+// correspondence sources (one file each: patch_targets, dense_targets, crease_targets,
+// coverage_targets, feature_constraints, appearance_flow), then the checks of pairwise_checks.
 
 #include <Eigen/Core>
-#include <memory>
 #include <vector>
 
+#include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/appearance_flow.hpp"
+#include "surfcap/align/coverage_targets.hpp"
+#include "surfcap/align/crease_targets.hpp"
+#include "surfcap/align/dense_targets.hpp"
 #include "surfcap/align/image_features.hpp"
+#include "surfcap/align/pairwise_checks.hpp"
+#include "surfcap/align/patch_targets.hpp"
 #include "surfcap/align/rigid_icp.hpp"
-#include "surfcap/align/surface_patches.hpp"
-#include "surfcap/align/volume_deformer.hpp"
+#include "surfcap/align/rigid_initialisation.hpp"
 #include "surfcap/core/json_document.hpp"
-#include "surfcap/core/mesh.hpp"
+#include "surfcap/core/option_table.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 
 namespace surfcap::align {
 
+/// The schedule's own knobs, then one group per correspondence source (core/option_table.hpp).
 struct PairwiseOptions {
-  int initial_patches = 30;         ///< patches at the coarsest level (casas2011: 30)
+  int patches = 30;                 ///< rigid patches at the coarsest level (casas2011: 30)
   int levels = 4;                   ///< patch levels, doubling the count each level
   int patch_icp_iterations = 6;
   int rotation_iterations = 3;      ///< rotation updates (solves) per level and per dense iteration
@@ -29,93 +36,49 @@ struct PairwiseOptions {
   int dense_iterations = 4;
   double dense_weight = 0.3;        ///< weight of a dense closest-point target
   double normal_compatibility = 0.5;  ///< minimum cosine between normals of matched points
-  double coarse_distance = 0.08;    ///< correspondence gate at level 0, fraction of the template's height
-  double dense_distance_edges = 3;  ///< dense-fit gate, in template mean edge lengths
+  double coarse_distance_height = 0.08;  ///< correspondence gate at level 0 (fraction of the template's height)
+  double dense_distance_edges = 3;  ///< dense-fit gate (template mean edges)
   int heading_samples = 12;         ///< headings tried when the frames do not overlap rigidly
-  /// Photometric dense fit: when both meshes have vertex colours, each dense target is the
-  /// colour-weighted mean of the target vertices near the closest point (σ in RGB 0..1; ≤ 0: off).
-  double color_sigma = 0.15;
-  double color_radius_edges = 1.5;  ///< search radius of the photometric target, in template mean edges
-  /// Colour-aware rigid patch matching at the coarsest `patch_color_levels` levels, when both meshes
-  /// have colours: besides its closest-point fit, each patch is fitted with correspondences found in
-  /// position-colour space (nearest reconstruction vertex with this many metres per unit of RGB, then
-  /// the closest point of that vertex's faces; ≤ 0: off), with vertex colours smoothed over
-  /// `color_smoothing` rings on both meshes (texture detail averaged out, part colours kept); the
-  /// colour fit is taken when its colours agree clearly better (`patch_color_gain`).
-  double patch_color_scale = 1.0;
-  int patch_color_levels = 2;  ///< colour-aware at the coarsest this many patch levels (then closest points)
-  /// A patch's colour-aware fit replaces its closest-point fit when its colour disagreement is below
-  /// this fraction of the closest-point fit's.
-  double patch_color_gain = 0.8;
-  int color_smoothing = 2;
-  /// Motion prediction (when align_pair is given a predicted surface): at the coarsest
-  /// `prediction_levels` levels each patch is also fitted from its predicted pose; that fit is
-  /// taken when its clamped mean distance to the reconstruction is below `prediction_gain` × the
-  /// other fit's, with no fewer inliers.
-  int prediction_levels = 1;
-  double prediction_gain = 0.8;
-  /// Image features (SIFT matches between the parent's and the child's camera images): soft
-  /// constraints at every level and dense iteration, each with this weight (≤ 0: not used).
-  double feature_weight = 0.6;
-  FeatureOptions features;
-  /// Coverage constraints: reconstruction vertices left uncovered by the aligned template pull their
-  /// closest template point, with this weight per vertex (≤ 0: off).
-  double coverage_weight = 0.9;
-  /// Dense optical flow against the root frame's appearance (appearance_flow.hpp): iterations after
-  /// the dense fit, when the template's root appearance and the child's images are given.
+  ColorOptions color;
+  PatchColorOptions patch_color;
+  PredictionOptions prediction;
+  FeatureOptions feature;
+  CoverageOptions coverage;
+  CreaseOptions crease;
   FlowOptions flow;
-  double uncovered_distance_edges = 1.5;  ///< a reconstruction vertex farther than this from the aligned
-                                          ///< template (template mean edges) is uncovered
-  /// Stacked layers (PairwiseResult::stacked_fraction): two aligned template vertices closer than
-  /// `stacked_distance_edges` (template mean edges), facing the same way (normals' cosine above
-  /// 0.5), that lie more than `stacked_rest_distance` (fraction of the template height) apart at rest.
-  double stacked_distance_edges = 0.5;
-  double stacked_rest_distance = 0.057;
-  /// Crease matching (creases.hpp): template vertices on a convex crease of the rest surface
-  /// (dihedral angle > `crease_angle_deg`) are drawn to the closest point of the reconstruction's
-  /// convex creases within `crease_distance_edges` (bisector within the normal gate), with this
-  /// weight, replacing their closest-point target (≤ 0: off).
-  double crease_weight = 0.3;
-  double crease_angle_deg = 50;
-  double crease_distance_edges = 4;
-  /// Only straight stretches of crease are matched (straight_crease_vertices: sqrt(λ₂/λ₁) of the
-  /// crease vertices within `crease_straight_radius` ≤ this), on the template and, with
-  /// `crease_target_straightness` < 1, on the reconstruction; ≥ 1 = every crease vertex. The
-  /// radius is a fraction of the template height, a body scale (a hand's crease loop is a whole
-  /// loop within it at any mesh resolution), not a number of edges.
-  double crease_straightness = 0.45;
-  double crease_target_straightness = 1;
-  double crease_straight_radius = 0.048;
-  int crease_patch_levels = 2;  ///< crease matching also at the last this many patch levels (always in the dense fit)
+  PairwiseCheckOptions checks;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("patches", self.patches, "Rigid patches at the coarsest level (doubling per level)", Range::at_least(1));
+    t.field("levels", self.levels, "Coarse-to-fine patch levels", Range::closed(0, 10));
+    t.field("patch_icp_iterations", self.patch_icp_iterations, "ICP iterations per patch fit", Range::at_least(1));
+    t.field("rotation_iterations", self.rotation_iterations, "Rotation updates (solves) per level", Range::at_least(1));
+    t.field("patch_weight", self.patch_weight, "Soft-constraint weight of patch targets", Range::above(0));
+    t.field("min_patch_inliers", self.min_patch_inliers, "Fraction of a patch's vertices that must find a match",
+            Range::above_to(0, 1));
+    t.field("dense_iterations", self.dense_iterations, "Dense closest-point fitting iterations", Range::at_least(0));
+    t.field("dense_weight", self.dense_weight, "Soft-constraint weight of dense targets", Range::above(0));
+    t.field("normal_compatibility", self.normal_compatibility, "Minimum cosine between matched normals",
+            Range::closed(-1, 1));
+    t.field("coarse_distance_height", self.coarse_distance_height,
+            "Correspondence gate at the coarsest level (fraction of the template height)", Range::above(0));
+    t.field("dense_distance_edges", self.dense_distance_edges, "Dense-fit gate (template mean edges)", Range::above(0));
+    t.field("heading_samples", self.heading_samples, "Headings tried when frames do not overlap rigidly",
+            Range::at_least(1));
+    t.group("color", self.color);
+    t.group("patch_color", self.patch_color);
+    t.group("prediction", self.prediction);
+    t.group("feature", self.feature);
+    t.group("coverage", self.coverage);
+    t.group("crease", self.crease);
+    t.group("flow", self.flow);
+    t.inline_group(self.checks);
+  }
   /// Throws bad_arguments naming the offending option.
-  void validate() const;
-  core::Json to_json() const;
-};
-
-/// What is computed once per template and shared (read-only) by every pairwise alignment.
-class AlignmentTemplate {
- public:
-  AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer = {});
-  const core::Mesh& mesh() const { return mesh_; }
-  const VolumeDeformer& deformer() const { return deformer_; }
-  const std::vector<PatchSet>& patches() const { return patches_; }
-  /// The template's vertex colours smoothed for colour-aware patch matching (empty: no colours).
-  const Eigen::MatrixXd& smoothed_colors() const { return smoothed_colors_; }
-  /// Vertices on a convex crease of the template at rest (PairwiseOptions::crease_angle_deg).
-  const std::vector<int>& crease_vertices() const { return crease_vertices_; }
-  double mean_edge() const { return mean_edge_; }
-  double height() const { return height_; }  ///< extent along y at rest (m)
-  double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
-
- private:
-  double seconds_tetrahedralisation_ = 0;  // before deformer_: its initialiser sets it
-  core::Mesh mesh_;
-  VolumeDeformer deformer_;
-  std::vector<PatchSet> patches_;
-  Eigen::MatrixXd smoothed_colors_;
-  std::vector<int> crease_vertices_;
-  double mean_edge_ = 0;
-  double height_ = 0;
+  void validate() const { core::validate_options(*this); }
+  core::Json to_json() const { return core::options_to_json(*this); }
 };
 
 struct PairwiseTimings {
@@ -141,19 +104,11 @@ struct PairwiseResult {
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
   double max_residual = 0;
   double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
-  /// Of the template's surface vertices, those in stacked layers: laid onto the same stretch of
-  /// surface as a part of the template far from them at rest (a hand pushed up its forearm, a limb
-  /// laid onto another) — a fold the one- and two-sided residuals cannot see.
+  /// Of the template's surface vertices, those in stacked layers (pairwise_checks.hpp).
   double stacked_fraction = 0;
   long crease_constraints = 0;  ///< template crease vertices drawn to the reconstruction's creases (last solve)
   PairwiseTimings timings;
 };
-
-/// Vertex colours averaged with their neighbours' `rings` times (uniform weights).
-Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings);
-
-/// Per surface vertex of `surface` (n×3 template connectivity): distance to the target surface.
-Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
 
 /// The camera-image features of the parent and child frames (either may be empty: no images).
 struct FeaturePair {
@@ -164,27 +119,12 @@ struct FeaturePair {
   const std::vector<GreyImage>* child_images = nullptr;
 };
 
-/// Fraction of the vertices of `aligned` (the template surface posed, faces F) in stacked layers:
-/// within `distance` of another vertex with a normal at less than 60° from theirs that lies more
-/// than `rest_distance` from them in `rest`. A surface laid onto itself (a hand pushed up its
-/// forearm: the hand's vertices on the forearm's stretch of the reconstruction) is a fold the
-/// residuals cannot see; two parts that touch face each other and do not count.
-double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
-                        double distance, double rest_distance);
-
-/// Whole-body rigid initialisation of a template surface (vertex normals `normals`) onto `target`:
-/// centroids matched, ICP; if the result does not overlap, the best of `heading_samples` rotations
-/// about the vertical axis (similar frames of different sequences may face differently: the shape
-/// similarity is invariant to heading).
-RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
-                              const geometry::SurfaceQuery& target, const AlignmentTemplate& model,
-                              const PairwiseOptions& options);
-
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's
 /// reconstruction, queried through `target_query`); `target_colors` (per target vertex, 0..1) enables
-/// the photometric dense fit when the template has colours too. `predicted_surface` (template
-/// surface vertices, world), when given, is where a motion prediction expects the child: the
-/// coarsest patch levels also try it as a start (PairwiseOptions::prediction_levels).
+/// the photometric dense fit and the colour-aware patches when the template has colours too.
+/// `predicted_surface` (template surface vertices, world), when given, is where a motion
+/// prediction expects the child: the coarsest patch levels also try it as a start
+/// (PredictionOptions::levels).
 PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd& parent_positions,
                           const geometry::SurfaceQuery& target_query, const PairwiseOptions& options,
                           const Eigen::MatrixXd* target_colors = nullptr, const FeaturePair& features = {},

@@ -3,7 +3,10 @@
 #include <flann/flann.hpp>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <limits>
+
+#include "surfcap/geometry/best_rotation.hpp"
 
 namespace surfcap::align {
 
@@ -213,6 +216,24 @@ RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals
                             m.row(i) = n.transpose();
                           }
                         });
+}
+
+Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) {
+  return ((points * fit.rotation.transpose()).rowwise() + fit.translation.transpose()).eval();
+}
+
+double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate) {
+  double sum = 0;
+  for (long i = 0; i < points.rows(); ++i) sum += std::min(gate, target.closest_point(points.row(i).transpose()).distance);
+  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
+}
+
+RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to) {
+  const Eigen::Matrix4d motion = geometry::best_rigid_motion(from, to);
+  RigidFit fit;
+  fit.rotation = motion.topLeftCorner<3, 3>();
+  fit.translation = motion.topRightCorner<3, 1>();
+  return fit;
 }
 
 }  // namespace surfcap::align

@@ -74,4 +74,13 @@ RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals
 RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals, const Eigen::MatrixXd& colors,
                    const ColoredTarget& colored, const IcpOptions& options, const RigidFit& initial = {});
 
+/// `points` (k×3) moved by `fit`.
+Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit);
+
+/// Mean over `points` of the distance to the target, clamped at `gate` (unmatched points count as gate).
+double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate);
+
+/// The rigid motion best taking `from` onto `to` (rows paired, no scaling; geometry::best_rigid_motion).
+RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to);
+
 }  // namespace surfcap::align

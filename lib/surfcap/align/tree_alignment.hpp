@@ -1,16 +1,20 @@
 #pragma once
 // Alignment of every captured frame along the shape similarity tree (casas2011 §3.2): the
 // template (the root frame's reconstruction) is deformed parent → child from the root outwards;
-// independent branches run in parallel, level by level, so results do not depend on the thread
-// count. The result is the aligned database (DESIGN §3.2) plus per-frame records for the report.
+// the edges of one depth run in parallel, each reading only its parent, so results do not depend
+// on the thread count. Around each edge: motion prediction (motion_prediction.hpp) and parent
+// recovery (parent_recovery.hpp). The result is the aligned database (aligned_database.hpp) plus
+// per-frame records for the report.
 
 #include <Eigen/Core>
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <vector>
 
+#include "surfcap/align/aligned_database.hpp"
+#include "surfcap/align/motion_prediction.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/align/parent_recovery.hpp"
 #include "surfcap/core/capture.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/progress.hpp"
@@ -34,45 +38,29 @@ struct AlignmentTree {
 /// nodes with parents before children; bad_input names the file.
 AlignmentTree read_alignment_tree(const std::filesystem::path& database, long node_count);
 
+/// Every option of the alignment that can change its output (its table is the provenance written
+/// into database.json).
 struct RegisterOptions {
   PairwiseOptions pairwise;
   DeformerOptions deformer;
-  int threads = 0;  ///< ≤ 0: all hardware threads
-  bool images = true;  ///< use camera-image features when the capture has images
-  /// Recoverable failures (issue 10): a child whose alignment throws (solver failure), ends with a
-  /// mean residual above `failure_residual` (m), leaves more than `max_uncovered` of its
-  /// reconstruction's vertices uncovered (PairwiseResult::uncovered_fraction) or stacks more than
-  /// `max_stacked` (below) has failed; one whose residual grew beyond `residual_growth` × its
-  /// parent's is retried too. It is aligned again from the next most similar frames already aligned
-  /// (a lower depth, by `costs`), up to `retries` times; of the attempts that did not fail the lowest
-  /// mean residual is kept, and if all failed the tree parent's.
-  double failure_residual = 0.004;
-  double max_uncovered = 0.01;  ///< or more than this fraction of the reconstruction is not covered (1: off)
-  /// … or more than this fraction of the template's vertices lie in stacked layers
-  /// (PairwiseResult::stacked_fraction: a hand pushed up its forearm; 1: off) …
-  double max_stacked = 0.005;
-  /// … or its mean residual is more than this many times its parent's (an edge that fits clearly
-  /// worse than the one before it; not from the root; ≤ 0: off).
-  double residual_growth = 1.3;
-  int retries = 2;
+  bool images = true;  ///< use camera-image features and appearance flow when the capture has images
+  FailureOptions failure;
+  RecoveryOptions recovery;
+  MotionPredictionOptions motion;
+  int threads = 0;  ///< ≤ 0: all hardware threads (no effect on the output; not in the table)
   const Eigen::MatrixXd* costs = nullptr;  ///< N×N similarity costs (similarity/matrix.npy); null: no retries
-  /// Motion prediction along the tree: when a child's parent and grandparent are its next two
-  /// frames of the same sequence (frames f+1, f+2 → f, or f−1, f−2 → f), the child is predicted at
-  /// parent + `motion_prediction` × (parent − grandparent), per vertex, and the coarsest patch
-  /// levels also try that start (PairwiseOptions::prediction_levels; ≤ 0: off). A limb that moves
-  /// farther in a frame than the patch gate (a running stride) is matched where it went.
-  double motion_prediction = 1.0;
-  /// … and also when the child is not the frame after parent and grandparent but costs (by `costs`)
-  /// at most this fraction of its cost to the parent from that frame: a twin a cycle apart of a
-  /// cyclic motion (0: next frames only).
-  double twin_prediction = 0.25;
-  /// An edge whose parent is in another sequence than its child is also aligned from the most
-  /// similar already aligned frame of up to this many other sequences (by `costs`); the attempt
-  /// with the lowest mean residual is kept (0: the tree parent only).
-  int entry_candidates = 2;
-  /// Diagnostics: when set, every child is aligned from the template surface this returns for its
-  /// parent node (e.g. the ground truth) instead of from the aligned parent — each edge's own error.
-  std::function<Eigen::MatrixXd(long node)> parent_surface;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.inline_group(self.pairwise);
+    t.inline_group(self.deformer);
+    t.field("images", self.images, "Use the capture's camera images (SIFT features, appearance flow)");
+    t.inline_group(self.failure);
+    t.inline_group(self.recovery);
+    t.inline_group(self.motion);
+  }
+  void validate() const { core::validate_options(*this); }
+  core::Json to_json() const { return core::options_to_json(*this); }
 };
 
 /// One aligned frame, as the report lists it.
@@ -106,10 +94,6 @@ struct Registration {
   double seconds_template = 0;
   double appearance_coverage = 0;  ///< template faces seen by a root camera (0: no appearance flow)
 };
-
-/// Root motion of an aligned frame relative to the template at rest: centroid (x, y, z) and the
-/// heading of the best rotation about +y taking the centred template onto the centred frame.
-core::RootMotion root_motion(const Eigen::MatrixXd& template_rest, const Eigen::MatrixXd& world);
 
 /// All deformer vertices (surface + interior) for a posed template surface (n×3): the rest volume
 /// rigidly fitted to it, then deformed onto it (rotation updates), surface rows set exactly.

@@ -6,28 +6,17 @@
 #include <Eigen/SVD>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/geometry/best_rotation.hpp"
 #include "surfcap/geometry/gradient_operator.hpp"
 
 namespace surfcap::align {
-
-namespace {
-
-/// argmin over rotations Q of ‖A Q − B‖ (Kabsch on AᵀB, reflections excluded).
-Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& A, const Eigen::Matrix3d& B) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(A.transpose() * B, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d correction = Eigen::Matrix3d::Identity();
-  correction(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * correction * svd.matrixV().transpose();
-}
-
-}  // namespace
 
 VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options) {
   surface_vertices_ = template_mesh.vertex_count();
   std::string fallback_reason = "volumetric model disabled";
   const Eigen::SparseMatrix<double> surface_gradient = geometry::gradient_operator(template_mesh.V, template_mesh.F);
   const Eigen::VectorXd areas = core::face_areas(template_mesh.V, template_mesh.F);
-  if (options.volumetric) {
+  if (!options.surface_model) {
     try {
       const geometry::TetMesh tets = geometry::tetrahedralise(template_mesh.V, template_mesh.F, options.tetrahedra);
       rest_ = tets.V;
@@ -93,7 +82,7 @@ Eigen::MatrixXd VolumeDeformer::rotated_gradients(const Eigen::MatrixXd& positio
   for (long e = 0; e < element_weights_.size(); ++e) {
     const Eigen::Matrix3d A = rest_gradients_.block<3, 3>(3 * e, 0);
     const Eigen::Matrix3d B = gradients.block<3, 3>(3 * e, 0);
-    rotated.block<3, 3>(3 * e, 0) = A * best_rotation(A, B);
+    rotated.block<3, 3>(3 * e, 0) = A * geometry::best_rotation(A.transpose() * B);
   }
   return rotated;
 }

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "surfcap/core/mesh.hpp"
+#include "surfcap/core/option_table.hpp"
 #include "surfcap/geometry/sparse_cholesky.hpp"
 #include "surfcap/geometry/tetrahedral_laplacian.hpp"
 
@@ -23,8 +24,15 @@ namespace surfcap::align {
 
 struct DeformerOptions {
   geometry::TetrahedraliseOptions tetrahedra;
-  /// false, or TetGen failing on the template: a surface model (triangle gradients, areas).
-  bool volumetric = true;
+  /// true, or TetGen failing on the template: a surface model (triangle gradients, areas).
+  bool surface_model = false;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.field("surface_model", self.surface_model, "Deform with a surface Laplacian instead of the tet volume");
+    t.field("interior_spacing_edges", self.tetrahedra.interior_spacing_edges,
+            "Interior points of the tet mesh: grid spacing in template mean edges (0: none)", core::Range::at_least(0));
+  }
 };
 
 class VolumeDeformer {

@@ -12,18 +12,12 @@
 #include <vector>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/geometry/mean_edge_length.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 
 namespace surfcap::geometry {
 
 namespace {
-
-double mean_edge_length(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  double sum = 0;
-  for (long f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) sum += (V.row(F(f, k)) - V.row(F(f, (k + 1) % 3))).norm();
-  return F.rows() > 0 ? sum / (3.0 * static_cast<double>(F.rows())) : 0.0;
-}
 
 /// Inside test against the closest face: the offset to the closest point points against the
 /// face normal. Robust away from the surface, which is where it is used.

@@ -40,7 +40,7 @@ SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> 
 /// The automatic template candidates: the frames whose stance (stance_width of their mesh) is in
 /// the widest `fraction` of all frames (at least one). An open pose — feet apart — makes a better
 /// template than a closed one: aligning legs together → apart lays one leg onto the other, the
-/// reverse does not (docs/align.md "Status"). Empty `stance`: no restriction (empty result).
+/// reverse does not. Empty `stance`: no restriction (empty result).
 std::vector<bool> wide_stance_roots(const std::vector<double>& stance, double fraction = 0.25);
 
 /// Minimum spanning tree total cost of a complete graph (no pruning), for evaluation.

@@ -126,7 +126,7 @@ TEST_F(AppearanceFlow, NoChildImagesGiveNoTargetsAndBadImagesAreBadInput) {
   }
   FlowOptions bad;
   bad.stride = 0;
-  EXPECT_THROW(bad.validate(), core::Error);
+  EXPECT_THROW(core::validate_options(bad), core::Error);
 }
 
 }  // namespace

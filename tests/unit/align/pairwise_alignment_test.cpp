@@ -186,12 +186,12 @@ TEST(PairwiseAlignment, CoveragePullsDrawTheTemplateIntoPartsItLeftUncovered) {
   // template towards them; at the default dense weight (0.3) four dense iterations do not get there,
   // so this test uses the stiffer dense fit it was written for.
   options.dense_weight = 1.0;
-  auto align = [&](double coverage_weight) {
-    options.coverage_weight = coverage_weight;
+  auto align = [&](std::optional<double> coverage_weight) {
+    options.coverage.weight = coverage_weight;
     const AlignmentTemplate model(template_mesh, options);
     return align_pair(model, model.deformer().rest(), target, options);
   };
-  const PairwiseResult without = align(0.0), with = align(3.0);
+  const PairwiseResult without = align(std::nullopt), with = align(3.0);
   auto extent = [&](const PairwiseResult& r) {
     const auto y = r.positions.topRows(template_mesh.V.rows()).col(1);
     return y.maxCoeff() - y.minCoeff();
@@ -228,7 +228,7 @@ TEST(PairwiseAlignment, MotionPredictionFindsAPartThatMovedFartherThanThePatchGa
     return std::sqrt((r.positions.topRows(truth.rows()) - truth).rowwise().squaredNorm().mean());
   };
   const double height = model.height();
-  ASSERT_GT(std::sqrt((parent - truth).rowwise().squaredNorm().maxCoeff()), 2 * options.coarse_distance * height);
+  ASSERT_GT(std::sqrt((parent - truth).rowwise().squaredNorm().maxCoeff()), 2 * options.coarse_distance_height * height);
   EXPECT_FALSE(without.predicted);
   EXPECT_TRUE(with.predicted);
   EXPECT_GT(with.predicted_patches, 0);

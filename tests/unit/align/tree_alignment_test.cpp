@@ -39,8 +39,8 @@ struct BendingCapture {
 TEST(TreeAlignment, ATwinOfTheParentsNextFrameIsAlignedFromTheMotionPrediction) {
   // Frames 0, 1, 2 bend at constant velocity (the ends move 0.32 m a frame, farther than twice the
   // coarsest patch gate); frame 3 is frame 2 a cycle later, 1.2 m farther on. The tree links 3 to 1
-  // (as demo's run links run:28, run:10's twin, to run:11): no temporal neighbour, but one step of
-  // 0 → 1's motion.
+  // (as the tree of a cyclic motion links a frame to the one before its twin): no temporal
+  // neighbour, but one step of 0 → 1's motion.
   const double b = 0.4;
   const Eigen::Vector3d still = Eigen::Vector3d::Zero(), cycle(1.2, 0.0, 0.3);
   const BendingCapture data("twin", {0.0, b, 2 * b, 2 * b + 0.002}, {still, still, still, cycle});
@@ -57,14 +57,14 @@ TEST(TreeAlignment, ATwinOfTheParentsNextFrameIsAlignedFromTheMotionPrediction) 
   RegisterOptions options;
   options.images = false;
   options.threads = 1;
-  options.retries = 0;
-  options.entry_candidates = 0;
+  options.recovery.retries = 0;
+  options.recovery.entry_candidates = 0;
   options.costs = &costs;
-  auto align = [&](double twin) {
-    options.twin_prediction = twin;
+  auto align = [&](std::optional<double> twin) {
+    options.motion.twin_prediction = twin;
     return register_capture(data.capture, frames, tree, options);
   };
-  const Registration with = align(0.25), without = align(0.0);
+  const Registration with = align(0.25), without = align(std::nullopt);
   const Eigen::MatrixXd& rest = with.database.template_mesh.V;
   const Eigen::MatrixXd truth = testing::deform_points(rest, 2 * b + 0.002, 0.0, cycle);
   auto rms = [&](const Registration& r) {
@@ -74,7 +74,7 @@ TEST(TreeAlignment, ATwinOfTheParentsNextFrameIsAlignedFromTheMotionPrediction) 
   const Eigen::MatrixXd parent_truth = testing::deform_points(rest, b, 0.0, still);
   const Eigen::MatrixXd twin_of_next = testing::deform_points(rest, 2 * b, 0.0, still);
   ASSERT_GT(std::sqrt((parent_truth - twin_of_next).rowwise().squaredNorm().maxCoeff()),
-            2 * options.pairwise.coarse_distance * height);
+            2 * options.pairwise.coarse_distance_height * height);
   // The parent's own error (its edge from the root has no prediction) is carried into the child.
   const double parent_rms = std::sqrt((with.world_positions[1] - parent_truth).rowwise().squaredNorm().mean());
   EXPECT_FALSE(without.frames[3].alignment.predicted);

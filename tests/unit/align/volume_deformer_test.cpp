@@ -38,7 +38,7 @@ TEST(VolumeDeformer, RigidTargetsOnAFewVerticesMoveTheWholeBodyRigidly) {
 TEST(VolumeDeformer, SurfaceModelWhenTetrahedralisationIsOff) {
   const core::Mesh shape = testing::ellipsoid(10, 20);
   DeformerOptions options;
-  options.volumetric = false;
+  options.surface_model = true;
   const VolumeDeformer deformer(shape, options);
   EXPECT_NE(deformer.model().find("surface"), std::string::npos);
   EXPECT_EQ(deformer.vertex_count(), shape.V.rows());

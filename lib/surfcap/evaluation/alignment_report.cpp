@@ -1,4 +1,4 @@
-#include "surfcap/align/alignment_report.hpp"
+#include "surfcap/evaluation/alignment_report.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -12,7 +12,7 @@
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/mesh_repair.hpp"
 
-namespace surfcap::align {
+namespace surfcap::evaluation {
 
 namespace {
 
@@ -63,7 +63,7 @@ cv::Mat render_panel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const E
 
 }  // namespace
 
-core::Json alignment_figures(const Registration& registration) {
+core::Json alignment_figures(const align::Registration& registration) {
   core::Json frames = core::Json::array();
   double mean_sum = 0, worst = 0;
   long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
@@ -134,7 +134,7 @@ core::Json alignment_figures(const Registration& registration) {
                        {"appearance_coverage", registration.appearance_coverage}}}};
 }
 
-std::vector<long> preview_nodes(const Registration& registration, int count) {
+std::vector<long> preview_nodes(const align::Registration& registration, int count) {
   const long nodes = static_cast<long>(registration.frames.size());
   std::vector<long> chosen;
   long root = 0, deepest = 0, worst = 0;
@@ -172,7 +172,7 @@ void write_sheet(const std::filesystem::path& path, const std::vector<cv::Mat>& 
   core::write_file_atomically(path, std::span(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size()));
 }
 
-std::string node_label(const FrameRecord& record, const char* what, double value) {
+std::string node_label(const align::FrameRecord& record, const char* what, double value) {
   char label[160];
   std::snprintf(label, sizeof label, "%s:%d depth %d %s %.1f mm", record.sequence.c_str(), record.frame, record.depth,
                 what, 1000 * value);
@@ -182,7 +182,7 @@ std::string node_label(const FrameRecord& record, const char* what, double value
 }  // namespace
 
 void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
-                            const Registration& registration, const std::vector<long>& nodes, double scale) {
+                            const align::Registration& registration, const std::vector<long>& nodes, double scale) {
   const int size = 360;
   std::vector<cv::Mat> panels;
   const Eigen::MatrixXi& F = registration.database.template_mesh.F;
@@ -192,13 +192,13 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
         capture.mesh_path(capture.sequence_index(record.sequence), record.frame), record.frame);
     const geometry::SurfaceQuery query(target.V, target.F);
     const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(node)];
-    const Eigen::VectorXd values = surface_distances(V, query);
+    const Eigen::VectorXd values = align::surface_distances(V, query);
     panels.push_back(render_panel(V, F, values, scale, size, node_label(record, "mean", values.mean())));
   }
   write_sheet(path, panels, scale, "to the reconstruction");
 }
 
-void write_value_preview(const std::filesystem::path& path, const Registration& registration,
+void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,
                          const std::vector<long>& nodes, const std::vector<Eigen::VectorXd>& values, double scale,
                          const std::string& what) {
   const int size = 360;
@@ -218,4 +218,4 @@ void write_value_preview(const std::filesystem::path& path, const Registration& 
   write_sheet(path, panels, scale, what);
 }
 
-}  // namespace surfcap::align
+}  // namespace surfcap::evaluation

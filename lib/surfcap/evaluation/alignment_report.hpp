@@ -8,27 +8,27 @@
 #include "surfcap/align/tree_alignment.hpp"
 #include "surfcap/core/json_document.hpp"
 
-namespace surfcap::align {
+namespace surfcap::evaluation {
 
 /// {"frames":[{"sequence","frame","node","parent","depth","mean_residual_m","max_residual_m",
 /// "correspondences":{"patch","dense","feature",...},"accepted_patches","color_patches","total_patches",
 /// "heading_change_rad","seconds","timings_s":{matching,factorisation,solves}}], "summary":{...}}
-core::Json alignment_figures(const Registration& registration);
+core::Json alignment_figures(const align::Registration& registration);
 
 /// Nodes worth showing: the root, the deepest frame, the frame with the largest residual and one
 /// in between (distinct, at most `count`, in node order).
-std::vector<long> preview_nodes(const Registration& registration, int count = 4);
+std::vector<long> preview_nodes(const align::Registration& registration, int count = 4);
 
 /// Renders the aligned template of each node (front view, orthographic, flat shaded) coloured by
 /// the distance of each vertex to that frame's reconstruction (blue 0 → red `scale` metres), side
 /// by side, and writes the PNG atomically.
 void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
-                            const Registration& registration, const std::vector<long>& nodes, double scale);
+                            const align::Registration& registration, const std::vector<long>& nodes, double scale);
 
 /// The same panels coloured by given per-vertex values (e.g. the error against ground truth),
 /// front and side views of each node; `what` labels the colour bar.
-void write_value_preview(const std::filesystem::path& path, const Registration& registration,
+void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,
                          const std::vector<long>& nodes, const std::vector<Eigen::VectorXd>& values, double scale,
                          const std::string& what);
 
-}  // namespace surfcap::align
+}  // namespace surfcap::evaluation

@@ -1,4 +1,4 @@
-#include "surfcap/align/ground_truth_error.hpp"
+#include "surfcap/evaluation/ground_truth_error.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "surfcap/render/camera.hpp"
 #include "surfcap/render/rasterizer.hpp"
 
-namespace surfcap::align {
+namespace surfcap::evaluation {
 
 std::optional<std::filesystem::path> ground_truth_file(const core::Capture& capture) {
   const auto path = capture.folder / "ground_truth" / "truth.json";
@@ -132,101 +132,119 @@ std::vector<bool> TruthReference::observed(const std::string& sequence, int fram
   return seen;
 }
 
-TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Registration& registration) {
-  const Eigen::MatrixXi& F = registration.database.template_mesh.F;
-  TruthEvaluation evaluation;
-  evaluation.height = truth.height();
-  const long nodes = static_cast<long>(registration.frames.size());
-  evaluation.frames.resize(static_cast<std::size_t>(nodes));
-  double total = 0, total_normal = 0;
-  long count = 0;
-  std::map<int, std::pair<double, long>> by_depth;
-  std::map<int, std::pair<double, long>> by_region;
-  std::map<int, std::pair<double, long>> by_region_down;
+namespace {
+
+/// Σ squared errors and counts as the frames are added: overall, seen or not, by depth and region.
+struct ErrorSums {
+  double total = 0, total_normal = 0, observed = 0, unobserved = 0;
+  long count = 0, observed_count = 0;
+  std::map<int, std::pair<double, long>> by_depth, by_region, by_region_down;
+};
+
+/// One frame's error against the truth (positions `world`), added to `sums`.
+FrameTruthError frame_error(const TruthReference& truth, const align::FrameRecord& record,
+                            const Eigen::MatrixXd& world, const Eigen::MatrixXi& F, ErrorSums& sums) {
+  const Eigen::MatrixXd expected = truth.positions(record.sequence, record.frame);
+  const Eigen::MatrixXd normals = core::vertex_normals(expected, F);
+  const Eigen::MatrixXd error = world - expected;
+  const Eigen::VectorXd squared = error.rowwise().squaredNorm();
+  const Eigen::VectorXd along = (error.array() * normals.array()).rowwise().sum();
+  const long n = squared.size();
+  FrameTruthError frame;
+  frame.rms = std::sqrt(squared.mean());
+  frame.max = std::sqrt(squared.maxCoeff());
+  frame.normal_rms = std::sqrt(along.squaredNorm() / static_cast<double>(n));
+  frame.tangential_rms = std::sqrt(std::max(0.0, frame.rms * frame.rms - frame.normal_rms * frame.normal_rms));
+  frame.observed = truth.observed(record.sequence, record.frame);
+  long seen = 0;
+  for (long v = 0; v < n; ++v) {
+    if (frame.observed[static_cast<std::size_t>(v)]) {
+      sums.observed += squared(v);
+      ++seen;
+    } else {
+      sums.unobserved += squared(v);
+    }
+  }
+  sums.observed_count += seen;
+  frame.observed_fraction = static_cast<double>(seen) / static_cast<double>(std::max<long>(1, n));
+  sums.total += squared.sum();
+  sums.total_normal += along.squaredNorm();
+  sums.count += n;
+  auto& depth = sums.by_depth[record.depth];
+  depth.first += squared.sum();
+  depth.second += n;
+  for (long v = 0; v < n; ++v) {
+    if (truth.regions()(v) < 0) continue;
+    auto& region = sums.by_region[truth.regions()(v)];
+    region.first += squared(v);
+    ++region.second;
+    if (!truth.downward()[static_cast<std::size_t>(v)]) continue;
+    auto& down = sums.by_region_down[truth.regions()(v)];
+    down.first += squared(v);
+    ++down.second;
+  }
+  return frame;
+}
+
+/// The overall figures from the sums.
+void summarise(const TruthReference& truth, const ErrorSums& sums, TruthEvaluation& evaluation) {
+  const double count = static_cast<double>(std::max<long>(1, sums.count));
+  evaluation.rms = std::sqrt(sums.total / count);
+  evaluation.normal_rms = std::sqrt(sums.total_normal / count);
+  evaluation.tangential_rms =
+      std::sqrt(std::max(0.0, evaluation.rms * evaluation.rms - evaluation.normal_rms * evaluation.normal_rms));
+  evaluation.observed_fraction = static_cast<double>(sums.observed_count) / count;
+  evaluation.observed_rms = std::sqrt(sums.observed / static_cast<double>(std::max<long>(1, sums.observed_count)));
+  evaluation.unobserved_rms =
+      std::sqrt(sums.unobserved / static_cast<double>(std::max<long>(1, sums.count - sums.observed_count)));
+  for (const auto& [depth, sum] : sums.by_depth)
+    evaluation.rms_by_depth[depth] = std::sqrt(sum.first / static_cast<double>(sum.second));
   std::map<int, long> region_vertices, region_down_vertices;
   for (long v = 0; v < truth.regions().size(); ++v) {
     if (truth.regions()(v) < 0) continue;
     ++region_vertices[truth.regions()(v)];
     if (truth.downward()[static_cast<std::size_t>(v)]) ++region_down_vertices[truth.regions()(v)];
   }
-  double observed_sum = 0, unobserved_sum = 0;
-  long observed_count = 0;
-  for (long node = 0; node < nodes; ++node) {
-    const auto& record = registration.frames[static_cast<std::size_t>(node)];
-    const Eigen::MatrixXd expected = truth.positions(record.sequence, record.frame);
-    const Eigen::MatrixXd normals = core::vertex_normals(expected, F);
-    const Eigen::MatrixXd error = registration.world_positions[static_cast<std::size_t>(node)] - expected;
-    const Eigen::VectorXd squared = error.rowwise().squaredNorm();
-    const Eigen::VectorXd along = (error.array() * normals.array()).rowwise().sum();
-    const long n = squared.size();
-    auto& frame = evaluation.frames[static_cast<std::size_t>(node)];
-    frame.rms = std::sqrt(squared.mean());
-    frame.max = std::sqrt(squared.maxCoeff());
-    frame.normal_rms = std::sqrt(along.squaredNorm() / static_cast<double>(n));
-    frame.tangential_rms = std::sqrt(std::max(0.0, frame.rms * frame.rms - frame.normal_rms * frame.normal_rms));
-    frame.observed = truth.observed(record.sequence, record.frame);
-    const std::vector<bool>& observed = frame.observed;
-    long seen = 0;
-    for (long v = 0; v < n; ++v) {
-      if (observed[static_cast<std::size_t>(v)]) {
-        observed_sum += squared(v);
-        ++seen;
-      } else {
-        unobserved_sum += squared(v);
-      }
-    }
-    observed_count += seen;
-    frame.observed_fraction = static_cast<double>(seen) / static_cast<double>(std::max<long>(1, n));
-    total += squared.sum();
-    total_normal += along.squaredNorm();
-    count += n;
-    auto& depth = by_depth[record.depth];
-    depth.first += squared.sum();
-    depth.second += n;
-    for (long v = 0; v < n; ++v) {
-      if (truth.regions()(v) < 0) continue;
-      auto& region = by_region[truth.regions()(v)];
-      region.first += squared(v);
-      ++region.second;
-      if (!truth.downward()[static_cast<std::size_t>(v)]) continue;
-      auto& down = by_region_down[truth.regions()(v)];
-      down.first += squared(v);
-      ++down.second;
-    }
-    if (frame.rms > evaluation.worst_frame_rms) {
-      evaluation.worst_frame_rms = frame.rms;
-      evaluation.worst_node = node;
-    }
-  }
-  evaluation.rms = std::sqrt(total / static_cast<double>(std::max<long>(1, count)));
-  evaluation.normal_rms = std::sqrt(total_normal / static_cast<double>(std::max<long>(1, count)));
-  evaluation.tangential_rms = std::sqrt(std::max(0.0, evaluation.rms * evaluation.rms - evaluation.normal_rms * evaluation.normal_rms));
-  evaluation.observed_fraction = static_cast<double>(observed_count) / static_cast<double>(std::max<long>(1, count));
-  evaluation.observed_rms = std::sqrt(observed_sum / static_cast<double>(std::max<long>(1, observed_count)));
-  evaluation.unobserved_rms = std::sqrt(unobserved_sum / static_cast<double>(std::max<long>(1, count - observed_count)));
-  for (const auto& [depth, sums] : by_depth)
-    evaluation.rms_by_depth[depth] = std::sqrt(sums.first / static_cast<double>(sums.second));
-  const double all_squared = std::max(total, 1e-300);
-  for (const auto& [region, sums] : by_region) {
+  const double all_squared = std::max(sums.total, 1e-300);
+  for (const auto& [region, sum] : sums.by_region) {
     const std::string& name = truth.region_names()[static_cast<std::size_t>(region)];
-    evaluation.rms_by_region[name] = std::sqrt(sums.first / static_cast<double>(sums.second));
-    evaluation.squared_share_by_region[name] = sums.first / all_squared;
+    evaluation.rms_by_region[name] = std::sqrt(sum.first / static_cast<double>(sum.second));
+    evaluation.squared_share_by_region[name] = sum.first / all_squared;
   }
-  for (const auto& [region, sums] : by_region_down) {
+  for (const auto& [region, sum] : sums.by_region_down) {
     const std::string& name = truth.region_names()[static_cast<std::size_t>(region)];
-    evaluation.downward_rms_by_region[name] = std::sqrt(sums.first / static_cast<double>(sums.second));
-    evaluation.downward_squared_share_by_region[name] = sums.first / all_squared;
+    evaluation.downward_rms_by_region[name] = std::sqrt(sum.first / static_cast<double>(sum.second));
+    evaluation.downward_squared_share_by_region[name] = sum.first / all_squared;
     evaluation.downward_fraction_by_region[name] =
         static_cast<double>(region_down_vertices[region]) / static_cast<double>(region_vertices[region]);
   }
+}
+
+}  // namespace
+
+TruthEvaluation evaluate_against_truth(const TruthReference& truth, const align::Registration& registration) {
+  TruthEvaluation evaluation;
+  evaluation.height = truth.height();
+  evaluation.frames.resize(registration.frames.size());
+  ErrorSums sums;
+  for (std::size_t node = 0; node < registration.frames.size(); ++node) {
+    auto& frame = evaluation.frames[node];
+    frame = frame_error(truth, registration.frames[node], registration.world_positions[node],
+                        registration.database.template_mesh.F, sums);
+    if (frame.rms > evaluation.worst_frame_rms) {
+      evaluation.worst_frame_rms = frame.rms;
+      evaluation.worst_node = static_cast<long>(node);
+    }
+  }
+  summarise(truth, sums, evaluation);
   return evaluation;
 }
 
-TruthEvaluation evaluate_against_truth(const core::Capture& capture, const Registration& registration) {
+TruthEvaluation evaluate_against_truth(const core::Capture& capture, const align::Registration& registration) {
   return evaluate_against_truth(TruthReference(capture, registration.database), registration);
 }
 
-core::Json TruthEvaluation::to_json(const Registration& registration) const {
+core::Json TruthEvaluation::to_json(const align::Registration& registration) const {
   const double percent = 100.0 / height;
   core::Json depth = core::Json::array();
   for (const auto& [d, rms_at] : rms_by_depth)
@@ -258,4 +276,4 @@ core::Json TruthEvaluation::to_json(const Registration& registration) const {
           {"by_region_downward_fraction", to_object(downward_fraction_by_region)}};
 }
 
-}  // namespace surfcap::align
+}  // namespace surfcap::evaluation

@@ -16,7 +16,7 @@
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/json_document.hpp"
 
-namespace surfcap::align {
+namespace surfcap::evaluation {
 
 /// The true locations of the template's vertices (the root reconstruction's) in any frame.
 class TruthReference {
@@ -83,14 +83,14 @@ struct TruthEvaluation {
   /// The same two over the region's downward-facing vertices (TruthReference::downward), and the
   /// fraction of the region's vertices that face downwards.
   std::map<std::string, double> downward_rms_by_region, downward_squared_share_by_region, downward_fraction_by_region;
-  core::Json to_json(const Registration& registration) const;  ///< figures in metres and % of height
+  core::Json to_json(const align::Registration& registration) const;  ///< figures in metres and % of height
 };
 
 /// <capture>/ground_truth/truth.json if the capture has ground truth.
 std::optional<std::filesystem::path> ground_truth_file(const core::Capture& capture);
 
 /// Compares every aligned frame with the truth; bad_input if the ground truth is incomplete.
-TruthEvaluation evaluate_against_truth(const TruthReference& truth, const Registration& registration);
-TruthEvaluation evaluate_against_truth(const core::Capture& capture, const Registration& registration);
+TruthEvaluation evaluate_against_truth(const TruthReference& truth, const align::Registration& registration);
+TruthEvaluation evaluate_against_truth(const core::Capture& capture, const align::Registration& registration);
 
-}  // namespace surfcap::align
+}  // namespace surfcap::evaluation

@@ -1,0 +1,23 @@
+# cmake -DMODULE=m -DALLOWED=m,dep,... -DDIRECTORY=lib/surfcap/m -DSTAMP=file -P CheckModuleLayers.cmake
+# Fails when a file of the module includes a surfcap header of a module it does not link
+# (lib/surfcap/CMakeLists.txt): the layering of the library, enforced.
+cmake_minimum_required(VERSION 3.20)
+string(REPLACE "," ";" ALLOWED "${ALLOWED}")
+file(GLOB files ${DIRECTORY}/*.cpp ${DIRECTORY}/*.hpp)
+set(violations "")
+foreach(file ${files})
+  file(STRINGS ${file} includes REGEX "^#include \"surfcap/[a-z_]+/")
+  foreach(line ${includes})
+    string(REGEX REPLACE "^#include \"surfcap/([a-z_]+)/.*" "\\1" used "${line}")
+    if(NOT used IN_LIST ALLOWED)
+      get_filename_component(name ${file} NAME)
+      list(APPEND violations "${MODULE}/${name} includes surfcap/${used}/")
+    endif()
+  endforeach()
+endforeach()
+if(violations)
+  string(REPLACE ";" "\n  " text "${violations}")
+  string(REPLACE ";" ", " allowed_text "${ALLOWED}")
+  message(FATAL_ERROR "lib/surfcap/${MODULE} may include only ${allowed_text}:\n  ${text}")
+endif()
+file(WRITE ${STAMP} "ok\n")

@@ -1,0 +1,44 @@
+#pragma once
+// What is computed once per template and shared (read-only) by every pairwise alignment: the
+// deformation model, the patch hierarchy, smoothed colours, the rest surface's crease vertices.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "surfcap/align/surface_patches.hpp"
+#include "surfcap/align/volume_deformer.hpp"
+#include "surfcap/core/mesh.hpp"
+
+namespace surfcap::align {
+
+struct PairwiseOptions;
+
+class AlignmentTemplate {
+ public:
+  AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer = {});
+  const core::Mesh& mesh() const { return mesh_; }
+  const VolumeDeformer& deformer() const { return deformer_; }
+  const std::vector<PatchSet>& patches() const { return patches_; }
+  /// The template's vertex colours smoothed for colour-aware patch matching (empty: no colours).
+  const Eigen::MatrixXd& smoothed_colors() const { return smoothed_colors_; }
+  /// Vertices on a straight convex crease of the template at rest (CreaseOptions).
+  const std::vector<int>& crease_vertices() const { return crease_vertices_; }
+  double mean_edge() const { return mean_edge_; }
+  double height() const { return height_; }  ///< extent along y at rest (m)
+  double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
+
+ private:
+  double seconds_tetrahedralisation_ = 0;  // before deformer_: its initialiser sets it
+  core::Mesh mesh_;
+  VolumeDeformer deformer_;
+  std::vector<PatchSet> patches_;
+  Eigen::MatrixXd smoothed_colors_;
+  std::vector<int> crease_vertices_;
+  double mean_edge_ = 0;
+  double height_ = 0;
+};
+
+/// Vertex colours averaged with their neighbours' `rings` times (uniform weights).
+Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings);
+
+}  // namespace surfcap::align

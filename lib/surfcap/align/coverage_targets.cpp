@@ -1,0 +1,35 @@
+#include "surfcap/align/coverage_targets.hpp"
+
+#include <vector>
+
+#include "surfcap/align/alignment_template.hpp"
+#include "surfcap/align/feature_constraints.hpp"
+#include "surfcap/align/pairwise_alignment.hpp"
+
+namespace surfcap::align {
+
+CoverageTargets::CoverageTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
+                                 const PairwiseOptions& options)
+    : model_(model),
+      target_(target),
+      options_(options),
+      target_normals_(core::vertex_normals(target.vertices(), target.faces())) {}
+
+void CoverageTargets::add(const Eigen::MatrixXd& surface, double reach, TargetSet& targets,
+                          PairwiseResult& result) const {
+  if (!options_.coverage.weight) return;
+  const geometry::SurfaceQuery aligned(surface, model_.mesh().F);
+  const double gate = options_.checks.uncovered_distance_edges * model_.mean_edge();
+  std::vector<FeatureConstraint> pulls;
+  for (long i = 0; i < target_.vertices().rows(); ++i) {
+    const Eigen::Vector3d x = target_.vertices().row(i).transpose();
+    const geometry::SurfacePoint closest = aligned.closest_point(x);
+    if (closest.face < 0 || closest.distance <= gate || closest.distance > reach) continue;
+    if (aligned.face_normal(closest.face).dot(target_normals_.row(i).transpose()) < options_.normal_compatibility) continue;
+    pulls.push_back({closest.face, closest.barycentric, x});
+  }
+  result.coverage_constraints = static_cast<long>(pulls.size());
+  add_feature_targets(surface, model_.mesh().F, pulls, *options_.coverage.weight, targets.positions, targets.weights);
+}
+
+}  // namespace surfcap::align

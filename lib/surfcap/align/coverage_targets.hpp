@@ -1,0 +1,45 @@
+#pragma once
+// Coverage pulls (child → template correspondences): the dense fit is one-sided (template →
+// reconstruction), so a limb left behind or laid onto another limb fits with a small residual.
+// Every reconstruction vertex farther than the uncovered gate from the aligned template (but
+// within reach) pulls its closest template point towards itself.
+
+#include <Eigen/Core>
+
+#include <optional>
+
+#include "surfcap/align/target_set.hpp"
+#include "surfcap/core/option_table.hpp"
+#include "surfcap/geometry/surface_query.hpp"
+
+namespace surfcap::align {
+
+class AlignmentTemplate;
+struct PairwiseOptions;
+struct PairwiseResult;
+
+/// The weight of each pull (off: no pulls).
+struct CoverageOptions {
+  std::optional<double> weight = 0.9;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.field("weight", self.weight, "Weight of the coverage (reconstruction to template) pulls", core::Range::above(0));
+  }
+};
+
+class CoverageTargets {
+ public:
+  CoverageTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const PairwiseOptions& options);
+  /// Adds the pulls of the reconstruction vertices uncovered by `surface` within `reach` (m),
+  /// merged with the targets there (feature_constraints.hpp); counts them in `result`.
+  void add(const Eigen::MatrixXd& surface, double reach, TargetSet& targets, PairwiseResult& result) const;
+
+ private:
+  const AlignmentTemplate& model_;
+  const geometry::SurfaceQuery& target_;
+  const PairwiseOptions& options_;
+  Eigen::MatrixXd target_normals_;
+};
+
+}  // namespace surfcap::align

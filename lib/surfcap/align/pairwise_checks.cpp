@@ -1,0 +1,71 @@
+#include "surfcap/align/pairwise_checks.hpp"
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/core/mesh.hpp"
+#include "surfcap/geometry/vertex_grid.hpp"
+
+namespace surfcap::align {
+
+namespace {
+
+/// Each hard check relative to its limit: above 1 has failed (the largest names the failure).
+std::array<double, 3> hard_scores(const PairwiseResult& r, const FailureOptions& options) {
+  return {r.mean_residual / (options.failure_residual_mm / 1000), r.uncovered_fraction / options.max_uncovered,
+          r.stacked_fraction / options.max_stacked};
+}
+
+}  // namespace
+
+Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target) {
+  Eigen::VectorXd distances(surface.rows());
+  for (long i = 0; i < surface.rows(); ++i) distances(i) = target.closest_point(surface.row(i).transpose()).distance;
+  return distances;
+}
+
+double uncovered_fraction(const geometry::SurfaceQuery& target, const geometry::SurfaceQuery& aligned, double gate) {
+  long uncovered = 0;
+  for (long i = 0; i < target.vertices().rows(); ++i)
+    if (aligned.closest_point(target.vertices().row(i).transpose()).distance > gate) ++uncovered;
+  return target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows())
+                                      : 0.0;
+}
+
+double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                        double distance, double rest_distance) {
+  const long n = aligned.rows();
+  if (n == 0 || distance <= 0) return 0.0;
+  const Eigen::MatrixXd normals = core::vertex_normals(aligned, F);
+  const geometry::VertexGrid grid(aligned, distance);
+  std::vector<char> stacked(static_cast<std::size_t>(n), 0);
+  const double d2 = distance * distance, r2 = rest_distance * rest_distance;
+  for (long v = 0; v < n; ++v)
+    grid.around(aligned.row(v).transpose(), [&](long u) {
+      if (u <= v || (aligned.row(u) - aligned.row(v)).squaredNorm() > d2) return;
+      if ((rest.row(u) - rest.row(v)).squaredNorm() <= r2 || normals.row(u).dot(normals.row(v)) <= 0.5) return;
+      stacked[static_cast<std::size_t>(u)] = stacked[static_cast<std::size_t>(v)] = 1;
+    });
+  return static_cast<double>(std::count(stacked.begin(), stacked.end(), 1)) / static_cast<double>(n);
+}
+
+Verdict verdict(const PairwiseResult& result, double parent_residual, const FailureOptions& options) {
+  const auto scores = hard_scores(result, options);
+  if (*std::max_element(scores.begin(), scores.end()) > 1) return Verdict::failed;
+  const bool grown = options.residual_growth && parent_residual > 0 &&
+                     result.mean_residual > *options.residual_growth * parent_residual;
+  return grown ? Verdict::grown : Verdict::pass;
+}
+
+std::string failure_reason(const PairwiseResult& result, double parent_residual, const FailureOptions& options) {
+  static const char* const reasons[] = {"mean residual above the failure threshold",
+                                        "reconstruction not covered by the aligned template",
+                                        "aligned template stacked onto itself"};
+  if (verdict(result, parent_residual, options) == Verdict::grown) return "mean residual grown beyond its parent's";
+  const auto scores = hard_scores(result, options);
+  return reasons[std::max_element(scores.begin(), scores.end()) - scores.begin()];
+}
+
+}  // namespace surfcap::align

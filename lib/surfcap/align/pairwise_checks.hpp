@@ -1,0 +1,88 @@
+#pragma once
+// What an aligned pair is checked for, and when an edge of the tree has failed. The residual
+// (aligned template → reconstruction) is one-sided; two failures it cannot see are checked too: a
+// reconstruction left uncovered (a limb collapsed onto another leaves the other one uncovered)
+// and a template stacked onto itself (a hand pushed up its forearm lies on the forearm's stretch
+// of the reconstruction with a normal residual).
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+
+#include "surfcap/core/option_table.hpp"
+#include "surfcap/geometry/surface_query.hpp"
+
+namespace surfcap::align {
+
+struct PairwiseResult;
+
+struct PairwiseCheckOptions {
+  /// A reconstruction vertex farther than this from the aligned template (mean edges) is uncovered.
+  double uncovered_distance_edges = 1.5;
+  /// Stacked layers: two aligned template vertices closer than `stacked_distance_edges`, facing
+  /// the same way (normals' cosine above 0.5), that lie more than `stacked_rest_distance_height`
+  /// apart at rest.
+  double stacked_distance_edges = 0.5;
+  double stacked_rest_distance_height = 0.057;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("uncovered_distance_edges", self.uncovered_distance_edges,
+            "A reconstruction vertex farther than this from the aligned template is uncovered (mean edges)",
+            Range::above(0));
+    t.field("stacked_distance_edges", self.stacked_distance_edges,
+            "Aligned template vertices closer than this may be stacked layers (mean edges)", Range::above(0));
+    t.field("stacked_rest_distance_height", self.stacked_rest_distance_height,
+            "... when farther apart than this at rest (fraction of the template height)", Range::above(0));
+  }
+};
+
+/// When an aligned child has failed: a mean residual above `failure_residual_mm`, more than
+/// `max_uncovered` of its reconstruction's vertices uncovered or more than `max_stacked` of the
+/// template's in stacked layers. One whose mean residual grew beyond `residual_growth` × its
+/// parent's (not from the root) has not failed but is worth a retry.
+struct FailureOptions {
+  double failure_residual_mm = 4;
+  double max_uncovered = 0.01;
+  double max_stacked = 0.005;
+  std::optional<double> residual_growth = 1.3;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("failure_residual_mm", self.failure_residual_mm,
+            "Mean residual above which a frame is re-aligned from its next most similar aligned frame", Range::above(0));
+    t.field("max_uncovered", self.max_uncovered,
+            "Fraction of a reconstruction left uncovered by the aligned template above which a frame failed",
+            Range::closed(0, 1));
+    t.field("max_stacked", self.max_stacked,
+            "Fraction of the template's vertices in stacked layers above which a frame failed", Range::above_to(0, 1));
+    t.field("residual_growth", self.residual_growth,
+            "A frame whose mean residual exceeds this many times its parent's is retried", Range::above(0));
+  }
+};
+
+/// Per surface vertex of `surface` (n×3 template connectivity): distance to the target surface.
+Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
+
+/// Fraction of the target's vertices farther than `gate` from `aligned` (the posed template).
+double uncovered_fraction(const geometry::SurfaceQuery& target, const geometry::SurfaceQuery& aligned, double gate);
+
+/// Fraction of the vertices of `aligned` (the template surface posed, faces F) in stacked layers:
+/// within `distance` of another vertex with a normal at less than 60° from theirs that lies more
+/// than `rest_distance` from them in `rest`. Two parts that touch face each other and do not count.
+double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                        double distance, double rest_distance);
+
+/// An attempt passes, fits clearly worse than its parent did (`grown`: worth a retry, but no
+/// evidence of a wrong alignment on its own) or failed.
+enum class Verdict { pass, grown, failed };
+
+/// The verdict on an aligned pair whose parent had mean residual `parent_residual` (0: no
+/// reference, as for the root's children), and in words why it did not pass.
+Verdict verdict(const PairwiseResult& result, double parent_residual, const FailureOptions& options);
+std::string failure_reason(const PairwiseResult& result, double parent_residual, const FailureOptions& options);
+
+}  // namespace surfcap::align

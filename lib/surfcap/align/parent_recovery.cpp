@@ -1,0 +1,73 @@
+#include "surfcap/align/parent_recovery.hpp"
+
+#include <algorithm>
+#include <map>
+#include <utility>
+
+#include "surfcap/align/tree_alignment.hpp"
+
+namespace surfcap::align {
+
+std::vector<long> candidate_parents(const Eigen::MatrixXd& costs, long child, long parent,
+                                    const std::vector<NodeFrame>& nodes, const std::function<bool(long)>& usable,
+                                    bool per_sequence) {
+  std::vector<std::pair<double, long>> ranked;
+  const long count = static_cast<long>(nodes.size());
+  if (!per_sequence) {
+    for (long other = 0; other < count; ++other)
+      if (other != parent && usable(other)) ranked.push_back({costs(child, other), other});
+  } else {
+    const int parent_sequence = nodes[static_cast<std::size_t>(parent)].sequence;
+    std::map<int, std::pair<double, long>> by_sequence;  // most similar usable frame per sequence
+    for (long other = 0; other < count; ++other) {
+      const int sequence = nodes[static_cast<std::size_t>(other)].sequence;
+      if (sequence == parent_sequence || !usable(other)) continue;
+      const double cost = costs(child, other);
+      const auto found = by_sequence.find(sequence);
+      if (found == by_sequence.end() || cost < found->second.first) by_sequence[sequence] = {cost, other};
+    }
+    for (const auto& entry : by_sequence) ranked.push_back(entry.second);
+  }
+  std::sort(ranked.begin(), ranked.end());
+  std::vector<long> candidates;
+  for (const auto& [cost, node] : ranked) candidates.push_back(node);
+  return candidates;
+}
+
+void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
+                   const AttemptFrom& attempt, const VerdictFrom& verdict) {
+  for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
+    const long from = candidates[k];
+    std::optional<PairwiseResult> retry = attempt(from);
+    if (!retry) continue;
+    const Verdict v = verdict(*retry, from);
+    // One that did not fail replaces one that did, or one with a higher mean residual.
+    const bool usable = v != Verdict::failed;
+    if (!kept.result ||
+        (usable && (kept.verdict == Verdict::failed || retry->mean_residual < kept.result->mean_residual))) {
+      kept.result = std::move(retry);
+      kept.parent = from;
+      kept.verdict = v;
+    }
+    if (v == Verdict::pass) break;
+  }
+}
+
+void try_entry_candidates(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
+                          double uncovered_margin, const AttemptFrom& attempt, const VerdictFrom& verdict,
+                          FrameRecord& record) {
+  for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.entry_candidates; ++k) {
+    const std::size_t failures = record.failed_attempts.size();
+    std::optional<PairwiseResult> alternative = attempt(candidates[k]);
+    record.failed_attempts.resize(failures);
+    ++record.entry_attempts;
+    if (alternative && verdict(*alternative, candidates[k]) == Verdict::pass &&
+        alternative->mean_residual < kept.result->mean_residual &&
+        alternative->uncovered_fraction <= kept.result->uncovered_fraction + uncovered_margin) {
+      kept.result = std::move(alternative);
+      kept.parent = candidates[k];
+    }
+  }
+}
+
+}  // namespace surfcap::align

@@ -1,0 +1,96 @@
+#pragma once
+// Rigid patch targets (casas2011 §3.2): at each coarse-to-fine level every patch of the template
+// is rigidly fitted to the child's reconstruction and, when enough of it found a match, its fitted
+// vertices become soft targets. At the coarsest levels each patch is fitted from two more starts
+// or correspondence kinds, and a model selection per patch keeps the better fit: colour-aware
+// correspondences (when both meshes have colours) and the motion-predicted pose (when given).
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+
+#include "surfcap/align/rigid_icp.hpp"
+#include "surfcap/align/target_set.hpp"
+#include "surfcap/core/option_table.hpp"
+#include "surfcap/geometry/surface_query.hpp"
+
+namespace surfcap::align {
+
+class AlignmentTemplate;
+struct PairwiseOptions;
+struct PairwiseResult;
+
+/// Colour-aware rigid patch matching at the coarsest `levels` levels, when both meshes have
+/// colours: besides its closest-point fit, each patch is fitted with correspondences found in
+/// position-colour space (nearest reconstruction vertex with `scale` metres per unit of RGB, then
+/// the closest point of that vertex's faces), with vertex colours smoothed over `smoothing` rings
+/// on both meshes (texture detail averaged out, part colours kept); the colour fit is taken when
+/// its colour disagreement is below `gain` × the closest-point fit's.
+struct PatchColorOptions {
+  std::optional<double> scale = 1.0;
+  int levels = 2;
+  double gain = 0.8;
+  int smoothing = 2;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    using core::Range;
+    t.field("scale", self.scale, "Colour-aware patch matching: metres per unit of RGB in the joint space",
+            Range::above(0));
+    t.field("levels", self.levels, "Colour-aware matching at the coarsest N patch levels", Range::at_least(0));
+    t.field("gain", self.gain,
+            "Colour-aware patch fit used when its colour disagreement is below this fraction of the closest-point fit's",
+            Range::above_to(0, 1));
+    t.field("smoothing", self.smoothing, "Rings of vertex-colour smoothing for patch matching", Range::closed(0, 20));
+  }
+};
+
+/// Motion prediction (when align_pair is given a predicted surface): at the coarsest `levels`
+/// levels each patch is also fitted from its predicted pose; that fit is taken when its clamped
+/// mean distance to the reconstruction is below `gain` × the other fit's, with no fewer inliers.
+struct PredictionOptions {
+  int levels = 1;
+  double gain = 0.8;
+
+  template <class Self, class Table>
+  static void table(Self& self, Table& t) {
+    t.field("levels", self.levels, "Patch levels that also try the motion-predicted start", core::Range::at_least(0));
+    t.field("gain", self.gain, "Predicted patch fit used when its mean distance is below this fraction of the other fit's",
+            core::Range::above_to(0, 1));
+  }
+};
+
+class PatchTargets {
+ public:
+  /// `target_colors` (per target vertex, 0..1; may be null) enable the colour-aware fits when the
+  /// template has colours too.
+  PatchTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
+               const Eigen::MatrixXd* target_colors, const PairwiseOptions& options);
+  ~PatchTargets();
+  PatchTargets(const PatchTargets&) = delete;
+  PatchTargets& operator=(const PatchTargets&) = delete;
+
+  /// The ICP settings of patch level `level`: the gate halves per level down to the dense gate.
+  IcpOptions icp(std::size_t level) const;
+
+  /// Fits the patches of `level` from the current `surface` (and `predicted`, the motion-predicted
+  /// surface, or null) and sets the targets of the accepted ones; counts go to `result`.
+  void add(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd* predicted, TargetSet& targets,
+           PairwiseResult& result) const;
+
+ private:
+  /// The fit of one patch: closest points, then the colour-aware and predicted alternatives.
+  RigidFit fit_patch(std::size_t level, const std::vector<int>& members, const Eigen::MatrixXd& surface,
+                     const Eigen::MatrixXd& normals, const Eigen::MatrixXd* predicted, const IcpOptions& icp,
+                     PairwiseResult& result) const;
+
+  const AlignmentTemplate& model_;
+  const geometry::SurfaceQuery& target_;
+  const PairwiseOptions& options_;
+  Eigen::MatrixXd target_smoothed_colors_;
+  std::unique_ptr<ColoredTarget> colored_;  ///< null: no colour-aware fits
+};
+
+}  // namespace surfcap::align
