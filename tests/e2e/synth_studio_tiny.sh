@@ -56,6 +56,17 @@ echo '{"actor": {"vertices": 600}, "studio": {"cameras": 6, "width": 160, "heigh
 [ -s "$work/c/ground_truth/walk/correspondence/000001.status.npy" ] || fail "scene file: no status files"
 [ ! -d "$work/c/walk/textured" ] || fail "--no-textures wrote textures"
 
+# surfcap-remesh's artefact options on the true walk (one connectivity): open, status per vertex.
+db="$work/a/ground_truth/database"
+"$build/tools/surfcap-remesh" --template "$db/template.ply" --positions "$db/sequences/walk.npy" --out "$work/r" \
+  --sequence walk --count 2 --visual-hull --voxel-mm 25 --floor-cut-mm 30 --unseen remove --outliers 0.01 \
+  --blobs 1 --log-level warn 2> "$work/r.log" || { cat "$work/r.log"; fail "surfcap-remesh with artefacts"; }
+[ -s "$work/r/ground_truth/walk/correspondence/000001.status.npy" ] || fail "surfcap-remesh wrote no status"
+[ -s "$work/r/capture.json" ] || fail "surfcap-remesh wrote no capture.json"
+n=$(perl -ne 'print $1 if /^element vertex (\d+)/' "$work/r/walk/mesh/000000.ply")
+[ "$(stat -c %s "$work/r/ground_truth/walk/correspondence/000000.status.npy")" -eq $((128 + n)) ] \
+  || fail "status.npy does not hold one byte per vertex"
+
 set +e
 "$synth" --preset studio_tiny --out "$work/d" --unseen sometimes 2>/dev/null; [ $? = 2 ] || fail "bad --unseen: exit code"
 "$synth" --preset studio_tiny --out "$work/d" --outliers 0.9 2>/dev/null; [ $? = 2 ] || fail "bad --outliers: exit code"
