@@ -137,7 +137,8 @@ TEST(VisualHull, ContainsTheObjectAndMergesWhatNoCameraSeparates) {
 
 TEST(ReconstructStudio, FacesFewCamerasSeeAreRemovedOrRough) {
   // A ball seen by eight cameras on its equator: the caps around the poles face at most one.
-  const core::Mesh ball = synth::marching_tetrahedra(sample_grid(0.4, 0.03, [](const Eigen::Vector3d& p) { return 0.3 - p.norm(); }));
+  const core::Mesh ball =
+      synth::marching_tetrahedra(sample_grid(0.4, 0.03, [](const Eigen::Vector3d& p) { return 0.3 - p.norm(); }));
   const auto cameras = render::ring_cameras(8, 3.0, 0.0, Eigen::Vector3d::Zero(), 20, 160, 120);
   synth::ReconstructionOptions options;
   options.noise_sigma = 0.0005;
