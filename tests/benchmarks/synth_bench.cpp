@@ -1,10 +1,12 @@
-// surfcap-synth's costs: meshing the actor, one frame's pieces, and the whole tiny preset.
+// surfcap-synth's costs: meshing the actor, one frame's pieces (plain and studio reconstructions),
+// and the whole tiny preset.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <unistd.h>
 
 #include "surfcap/synth/capture.hpp"
+#include "surfcap/synth/studio.hpp"
 
 namespace {
 
@@ -43,6 +45,27 @@ void BM_Reconstruct(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(synth::reconstruct(truth, edge, seed++));
 }
 BENCHMARK(BM_Reconstruct)->Unit(benchmark::kMillisecond);
+
+/// One frame of the studio models (visual hull from 8 cameras, floor cut, unseen faces removed,
+/// outliers, blobs) at `range(0)` target vertices with a voxel of `range(1)` mm.
+void BM_ReconstructStudio(benchmark::State& state) {
+  core::Mesh truth;
+  truth.V = actor().perform(scene(), scene().sequences[0], 3).V;
+  truth.F = actor().body.rest.F;
+  const auto cameras = render::ring_cameras(8, 5.0, 1.8, Eigen::Vector3d(0, 0.9, 0), 34, 640, 480);
+  synth::ReconstructionOptions options;
+  options.visual_hull = true;
+  options.vertices = static_cast<int>(state.range(0));
+  options.voxel = options.surface_tolerance = static_cast<double>(state.range(1)) / 1000;
+  options.floor_cut = true;
+  options.unseen = synth::UnseenMode::remove;
+  options.outlier_fraction = 0.002;
+  options.blobs = 1;
+  const double edge = synth::mean_edge_length(actor().body.rest);
+  std::uint64_t seed = 1;
+  for (auto _ : state) benchmark::DoNotOptimize(synth::reconstruct_studio(truth, cameras, {}, edge, seed++, options));
+}
+BENCHMARK(BM_ReconstructStudio)->Args({3000, 20})->Args({37000, 6})->Unit(benchmark::kMillisecond)->Iterations(1);
 
 void BM_RenderCamera(benchmark::State& state) {
   core::Mesh truth;

@@ -1,9 +1,12 @@
 #include "surfcap/synth/capture.hpp"
 
+#include "surfcap/synth/capture.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "surfcap/core/capture.hpp"
 #include "surfcap/core/database.hpp"
@@ -15,6 +18,8 @@
 #include "surfcap/render/contact_sheet.hpp"
 #include "surfcap/render/png.hpp"
 #include "surfcap/synth/deformation.hpp"
+#include "surfcap/synth/studio.hpp"
+#include "surfcap/synth/texture_atlas.hpp"
 
 namespace surfcap::synth {
 namespace {
@@ -41,19 +46,143 @@ struct FrameSlot {
   long reconstruction_faces = 0;
   double noise_rms = 0;
   double target_edge = 0;
+  FrameArtefacts artefacts;  ///< studio models only (per-vertex vectors dropped)
+  long charts = 0, conflicting_corners = 0;
 };
+
+/// Per template vertex: the body part of its dominant bone, or the skirt.
+std::vector<int> body_parts(const Body& body) {
+  std::vector<int> parts(static_cast<std::size_t>(body.rest.vertex_count()));
+  for (long v = 0; v < body.rest.vertex_count(); ++v) {
+    Eigen::Index joint = 0;
+    body.skin_weights.row(v).maxCoeff(&joint);
+    BodyPart part = BodyPart::torso;
+    if (joint >= shoulder_l && joint <= wrist_l) part = BodyPart::arm_l;
+    if (joint >= shoulder_r && joint <= wrist_r) part = BodyPart::arm_r;
+    if (joint >= hip_l && joint <= toe_l) part = BodyPart::leg_l;
+    if (joint >= hip_r && joint <= toe_r) part = BodyPart::leg_r;
+    if (body.garment_weight(v) > 0.5) part = BodyPart::garment;
+    parts[static_cast<std::size_t>(v)] = static_cast<int>(part);
+  }
+  return parts;
+}
+
+/// Rest-pose true points and body parts of reconstruction vertices (for
+/// merged-limb detection).
+void rest_labels(const Body& body, const std::vector<int>& template_parts, const std::vector<int>& face,
+                 const Eigen::MatrixXd& barycentric, Eigen::MatrixXd& rest_points, std::vector<int>& parts) {
+  rest_points = surface_points(body.rest.V, body.rest.F, face, barycentric);
+  parts.resize(face.size());
+  for (std::size_t i = 0; i < face.size(); ++i) {
+    Eigen::Index corner = 0;
+    barycentric.row(static_cast<long>(i)).maxCoeff(&corner);
+    parts[i] = template_parts[static_cast<std::size_t>(body.rest.F(face[i], corner))];
+  }
+}
+
+/// Colours of the artefact preview: hole borders blue, merged-limb edges
+/// orange, outliers and blobs magenta, phantom volume red, rough unseen patches
+/// green, the rest light grey.
+Eigen::MatrixXd artefact_colors(const FrameArtefacts& artefacts, const std::vector<std::uint8_t>& status) {
+  Eigen::MatrixXd colors(static_cast<long>(status.size()), 3);
+  for (std::size_t v = 0; v < status.size(); ++v) {
+    Eigen::Vector3d c(0.82, 0.82, 0.80);
+    const auto s = static_cast<VertexStatus>(status[v]);
+    if (s == VertexStatus::rough) c << 0.25, 0.75, 0.30;
+    if (s == VertexStatus::phantom) c << 0.90, 0.22, 0.15;
+    if (s == VertexStatus::outlier || s == VertexStatus::blob) c << 0.85, 0.10, 0.85;
+    if (artefacts.merged_vertex[v]) c << 1.00, 0.62, 0.05;
+    if (artefacts.boundary_vertex[v]) c << 0.10, 0.30, 1.00;
+    colors.row(static_cast<long>(v)) = c.transpose();
+  }
+  return colors;
+}
 
 struct Job {
   int sequence, frame;
 };
 
-void write_frame(const Scene& scene, const Actor& actor, const std::vector<render::Camera>& cameras,
-                 const std::filesystem::path& directory, const Job& job, FrameSlot& slot) {
+/// A frame with the studio models: reconstruction from the cameras' views,
+/// status per vertex, textured form, artefact measures.
+void write_studio_frame(const Scene& scene, const Actor& actor, const std::vector<int>& template_parts,
+                        const std::vector<render::Camera>& cameras, const std::filesystem::path& directory,
+                        const Job& job, const core::Mesh& truth, FrameSlot& slot) {
+  const MotionSpec& motion = scene.sequences[static_cast<std::size_t>(job.sequence)];
+  const ReconstructionOptions& options = scene.reconstruction;
+  const std::string name = frame_name(job.frame);
+  const auto sequence_dir = directory / motion.name;
+  std::vector<render::Image> images;
+  std::vector<Silhouette> silhouettes;
+  if (scene.images || options.visual_hull || options.textures) {
+    const render::RenderOptions render_options = actor.render_options();
+    for (const auto& camera : cameras) {
+      render::Rendering rendering = render::render_mesh(truth, camera, render_options);
+      if (scene.images) render::write_png(sequence_dir / "images" / camera.name / (name + ".png"), rendering.image);
+      silhouettes.push_back(silhouette_from_faces(camera, rendering.face));
+      images.push_back(std::move(rendering.image));
+    }
+  }
+  const Reconstruction reconstruction =
+      reconstruct_studio(truth, cameras, options.visual_hull ? silhouettes : std::vector<Silhouette>{},
+                         mean_edge_length(actor.body.rest), frame_seed(scene.seed, job.sequence, job.frame), options);
+  core::Mesh mesh = reconstruction.mesh;
+  if (options.textures) {
+    const FaceVisibility visibility = face_visibility(mesh, cameras);
+    TexturedMesh textured = bake_texture(mesh, cameras, images, visibility.best_camera, options.texture_scale);
+    write_textured_obj(sequence_dir / "textured" / (name + ".obj"), textured);
+    mesh.colors = textured.mesh.colors;
+    slot.charts = textured.charts;
+    slot.conflicting_corners = textured.conflicting_corners;
+  } else {
+    mesh.colors.resize(mesh.vertex_count(), 3);
+    for (long v = 0; v < mesh.vertex_count(); ++v)
+      mesh.colors.row(v) = surface_albedo(actor.body, actor.texture, reconstruction.face[static_cast<std::size_t>(v)],
+                                          reconstruction.barycentric.row(v).transpose())
+                               .transpose();
+  }
+  core::write_mesh(sequence_dir / "mesh" / (name + ".ply"), mesh);
+  const auto truth_dir = directory / "ground_truth" / motion.name / "correspondence";
+  std::vector<std::int32_t> faces(reconstruction.face.begin(), reconstruction.face.end());
+  core::write_npy(truth_dir / (name + ".face.npy"), faces.data(), {faces.size()});
+  core::write_npy_matrix<float>(truth_dir / (name + ".barycentric.npy"), reconstruction.barycentric);
+  core::write_npy(truth_dir / (name + ".status.npy"), reconstruction.status.data(), {reconstruction.status.size()});
+
+  Eigen::MatrixXd rest_points;
+  std::vector<int> parts;
+  rest_labels(actor.body, template_parts, reconstruction.face, reconstruction.barycentric, rest_points, parts);
+  slot.artefacts = measure_artefacts(mesh, reconstruction.status, rest_points, parts);
+  slot.artefacts.merged_vertex.clear();
+  slot.artefacts.boundary_vertex.clear();
+  const Eigen::MatrixXd exact = surface_points(truth.V, truth.F, reconstruction.face, reconstruction.barycentric);
+  double sum = 0;
+  long count = 0;
+  for (long v = 0; v < mesh.vertex_count(); ++v)
+    if (reconstruction.status[static_cast<std::size_t>(v)] == static_cast<std::uint8_t>(VertexStatus::on_surface)) {
+      sum += (mesh.V.row(v) - exact.row(v)).squaredNorm();
+      ++count;
+    }
+  slot.noise_rms = count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+  slot.reconstruction_vertices = mesh.vertex_count();
+  slot.reconstruction_faces = mesh.face_count();
+  slot.target_edge = reconstruction.target_edge;
+}
+
+void write_frame(const Scene& scene, const Actor& actor, const std::vector<int>& template_parts,
+                 const std::vector<render::Camera>& cameras, const std::filesystem::path& directory, const Job& job,
+                 FrameSlot& slot) {
   const MotionSpec& motion = scene.sequences[static_cast<std::size_t>(job.sequence)];
   const PerformedFrame performed = actor.perform(scene, motion, job.frame);
   core::Mesh truth;
   truth.V = performed.V;
   truth.F = actor.body.rest.F;
+  slot.V = performed.V;
+  slot.root = {performed.pose.root.x(), performed.pose.root.y(), performed.pose.root.z(), performed.pose.heading};
+  slot.joints = performed.joints;
+  slot.garment = performed.garment;
+  if (scene.reconstruction.studio()) {
+    write_studio_frame(scene, actor, template_parts, cameras, directory, job, truth, slot);
+    return;
+  }
   const double edge = mean_edge_length(actor.body.rest);
   const Reconstruction reconstruction =
       reconstruct(truth, edge, frame_seed(scene.seed, job.sequence, job.frame), scene.reconstruction);
@@ -78,10 +207,6 @@ void write_frame(const Scene& scene, const Actor& actor, const std::vector<rende
   }
   const Eigen::MatrixXd exact = surface_points(truth.V, truth.F, reconstruction.face, reconstruction.barycentric);
   slot.noise_rms = std::sqrt((mesh.V - exact).rowwise().squaredNorm().mean());
-  slot.V = performed.V;
-  slot.root = {performed.pose.root.x(), performed.pose.root.y(), performed.pose.root.z(), performed.pose.heading};
-  slot.joints = performed.joints;
-  slot.garment = performed.garment;
   slot.reconstruction_vertices = mesh.vertex_count();
   slot.reconstruction_faces = mesh.face_count();
   slot.target_edge = reconstruction.target_edge;
@@ -180,6 +305,8 @@ void write_ground_truth(const Scene& scene, const Actor& actor, const std::vecto
                   {"garment", motion.name + "/garment.npy"},
                   {"correspondence_face", motion.name + "/correspondence/{frame:06d}.face.npy"},
                   {"correspondence_barycentric", motion.name + "/correspondence/{frame:06d}.barycentric.npy"}});
+    if (scene.reconstruction.studio())
+      entry["correspondence_status"] = motion.name + "/correspondence/{frame:06d}.status.npy";
     sequences.push_back(entry);
   }
   const core::Json truth = {{"format", core::format_tag("synth_truth", 1)},
@@ -194,7 +321,12 @@ void write_ground_truth(const Scene& scene, const Actor& actor, const std::vecto
                             {"skeleton", joints},
                             {"noise_sigma", scene.reconstruction.noise_sigma},
                             {"sequences", sequences}};
-  core::write_json_file(directory / "truth.json", truth);
+  core::Json document = truth;
+  if (scene.reconstruction.studio()) {
+    document["surface_tolerance"] = scene.reconstruction.visual_hull ? scene.reconstruction.surface_tolerance : 0.0;
+    document["status_codes"] = {{"on_surface", 0}, {"phantom", 1}, {"outlier", 2}, {"blob", 3}, {"rough", 4}};
+  }
+  core::write_json_file(directory / "truth.json", document);
 }
 
 void write_contact_sheet(const Scene& scene, const Actor& actor, const std::vector<render::Camera>& cameras,
@@ -225,6 +357,139 @@ void write_contact_sheet(const Scene& scene, const Actor& actor, const std::vect
                                frame_name(pick.frame) + " " + cameras[static_cast<std::size_t>(view)].name);
     }
   render::write_png(path, render::contact_sheet(images, options));
+}
+
+/// The reconstructions of the frames that show the most artefacts (most
+/// merged-limb edges, genus ≠ 0, most holes, most blobs and outliers, then
+/// evenly spaced), coloured by artefact_colors, from the same two cameras as
+/// the contact sheet.
+void write_artefact_sheet(const Scene& scene, const Actor& actor, const std::vector<int>& template_parts,
+                          const std::vector<render::Camera>& cameras, const std::vector<std::vector<FrameSlot>>& slots,
+                          const std::filesystem::path& directory) {
+  std::vector<Job> all;
+  for (int s = 0; s < static_cast<int>(slots.size()); ++s)
+    for (int t = 0; t < static_cast<int>(slots[static_cast<std::size_t>(s)].size()); ++t) all.push_back({s, t});
+  auto artefacts = [&](const Job& j) -> const FrameArtefacts & {
+    return slots[static_cast<std::size_t>(j.sequence)][static_cast<std::size_t>(j.frame)].artefacts;
+  };
+  const std::vector<std::function<double(const FrameArtefacts &)>> measures = {
+      [](const FrameArtefacts& a) { return static_cast<double>(a.merged_edges); },
+      [](const FrameArtefacts& a) { return static_cast<double>(std::abs(a.genus)); },
+      [](const FrameArtefacts& a) { return static_cast<double>(a.holes); },
+      [](const FrameArtefacts& a) { return static_cast<double>(a.blob_components * 1000 + a.outliers); }};
+  const std::size_t count = static_cast<std::size_t>(std::max(1, scene.contact_sheet_frames));
+  std::vector<Job> picks;
+  auto picked = [&](const Job& j) {
+    for (const auto& p : picks)
+      if (p.sequence == j.sequence && p.frame == j.frame) return true;
+    return false;
+  };
+  for (const auto& measure : measures) {
+    if (picks.size() >= count) break;
+    const Job *best = nullptr;
+    for (const auto& j : all)
+      if (!picked(j) && measure(artefacts(j)) > 0 && (!best || measure(artefacts(j)) > measure(artefacts(*best))))
+        best = &j;
+    if (best) picks.push_back(*best);
+  }
+  for (std::size_t i = 0; picks.size() < std::min(count, all.size()) && i < all.size(); ++i) {
+    const Job& j = all[i * all.size() / std::min(count, all.size()) % all.size()];
+    if (!picked(j))
+      picks.push_back(j);
+    else if (i + 1 == all.size())
+      break;
+  }
+  std::vector<int> views = {0};
+  if (cameras.size() > 1) views.push_back(static_cast<int>(cameras.size() / 4 > 0 ? cameras.size() / 4 : 1));
+  std::vector<render::Image> images;
+  render::ContactSheetOptions options;
+  options.columns = static_cast<int>(picks.size());
+  options.scale = scene.studio.width > 400 ? 0.5 : 1.0;
+  render::RenderOptions render_options;
+  render_options.background = Eigen::Vector3d(0.55, 0.57, 0.60);
+  std::vector<core::Mesh> meshes;
+  for (const auto& pick : picks) {
+    const std::string sequence = scene.sequences[static_cast<std::size_t>(pick.sequence)].name;
+    const std::string name = frame_name(pick.frame);
+    core::Mesh mesh = core::read_mesh(directory / sequence / "mesh" / (name + ".ply"));
+    const auto truth_dir = directory / "ground_truth" / sequence / "correspondence";
+    const core::NpyArray face_array = core::read_npy(truth_dir / (name + ".face.npy"));
+    const core::NpyArray status_array = core::read_npy(truth_dir / (name + ".status.npy"));
+    const std::vector<int> face(face_array.data<std::int32_t>(), face_array.data<std::int32_t>() + mesh.vertex_count());
+    const std::vector<std::uint8_t> status(status_array.data<std::uint8_t>(),
+                                           status_array.data<std::uint8_t>() + mesh.vertex_count());
+    const Eigen::MatrixXd barycentric =
+        core::read_npy_matrix(truth_dir / (name + ".barycentric.npy"), mesh.vertex_count(), 3);
+    Eigen::MatrixXd rest_points;
+    std::vector<int> parts;
+    rest_labels(actor.body, template_parts, face, barycentric, rest_points, parts);
+    mesh.colors = artefact_colors(measure_artefacts(mesh, status, rest_points, parts), status);
+    meshes.push_back(std::move(mesh));
+  }
+  for (int view : views)
+    for (std::size_t p = 0; p < picks.size(); ++p) {
+      const core::Mesh& mesh = meshes[p];
+      // From the camera's position, zoomed on the actor.
+      const render::Camera& camera = cameras[static_cast<std::size_t>(view)];
+      const Eigen::Vector3d lower = mesh.V.colwise().minCoeff().transpose(),
+                            upper = mesh.V.colwise().maxCoeff().transpose();
+      const Eigen::Vector3d middle = (lower + upper) / 2;
+      const double distance = (camera.centre() - middle).norm();
+      const double fov = 2 * std::atan(0.6 * (upper - lower).norm() / distance) * 180 / M_PI;
+      const render::Camera zoomed = render::look_at(camera.name, camera.centre(), middle, Eigen::Vector3d::UnitY(), fov,
+                                                    camera.width, camera.height);
+      images.push_back(render::render_mesh(mesh, zoomed, render_options).image);
+      options.labels.push_back(scene.sequences[static_cast<std::size_t>(picks[p].sequence)].name + " " +
+                               frame_name(picks[p].frame) + " " + camera.name);
+    }
+  render::write_png(directory / "ground_truth" / "artefacts.png", render::contact_sheet(images, options));
+}
+
+/// Counts over the frames for the report: frames with each artefact and mean
+/// sizes.
+core::Json artefact_figures(const Scene& scene, const std::vector<std::vector<FrameSlot>>& slots) {
+  long frames = 0, merged = 0, holes = 0, genus = 0, blobs = 0, outliers = 0, several = 0, conflicts = 0;
+  double vertices = 0, phantom = 0, charts = 0;
+  core::Json per_frame = core::Json::array();
+  for (std::size_t s = 0; s < slots.size(); ++s)
+    for (std::size_t t = 0; t < slots[s].size(); ++t) {
+      const FrameArtefacts& a = slots[s][t].artefacts;
+      ++frames;
+      merged += a.merged_edges > 0;
+      holes += a.holes > 0;
+      genus += a.genus != 0;
+      blobs += a.blob_components > 0;
+      outliers += a.outliers > 0;
+      several += a.components > 1;
+      vertices += static_cast<double>(a.vertices);
+      phantom += a.vertices > 0 ? static_cast<double>(a.phantom) / static_cast<double>(a.vertices) : 0.0;
+      charts += static_cast<double>(slots[s][t].charts);
+      conflicts += slots[s][t].conflicting_corners;
+      per_frame.push_back({{"sequence", scene.sequences[s].name},
+                           {"frame", static_cast<long>(t)},
+                           {"vertices", a.vertices},
+                           {"components", a.components},
+                           {"holes", a.holes},
+                           {"genus", a.genus},
+                           {"merged_edges", a.merged_edges},
+                           {"phantom", a.phantom},
+                           {"outliers", a.outliers},
+                           {"blobs", a.blob_components},
+                           {"rough", a.rough}});
+    }
+  const double n = std::max<long>(frames, 1);
+  core::Json figures = {{"frames_with_merged_limbs", merged},
+                        {"frames_with_holes", holes},
+                        {"frames_with_genus_not_0", genus},
+                        {"frames_with_blobs", blobs},
+                        {"frames_with_outliers", outliers},
+                        {"frames_with_several_components", several},
+                        {"mean_vertices", vertices / n},
+                        {"mean_phantom_share", phantom / n},
+                        {"frames", per_frame}};
+  if (scene.reconstruction.textures)
+    figures["texture"] = {{"mean_charts", charts / n}, {"conflicting_corners", conflicts}};
+  return figures;
 }
 
 /// capture.json and cameras.json through core::write_capture (the one writer of the format);
@@ -290,6 +555,7 @@ void generate_capture(const Scene& scene, const std::filesystem::path& directory
   const auto& studio = scene.studio;
   const auto cameras = render::ring_cameras(studio.cameras, studio.radius, studio.elevation, studio.target, studio.fov,
                                             studio.width, studio.height);
+  const std::vector<int> template_parts = body_parts(actor.body);
   std::vector<Job> jobs;
   std::vector<std::vector<FrameSlot>> slots;
   for (int s = 0; s < static_cast<int>(scene.sequences.size()); ++s) {
@@ -301,7 +567,7 @@ void generate_capture(const Scene& scene, const std::filesystem::path& directory
     std::atomic<std::size_t> done{0};
     core::parallel_for(static_cast<long>(jobs.size()), threads, [&](long i) {
       const Job& job = jobs[static_cast<std::size_t>(i)];
-      write_frame(scene, actor, cameras, directory, job,
+      write_frame(scene, actor, template_parts, cameras, directory, job,
                   slots[static_cast<std::size_t>(job.sequence)][static_cast<std::size_t>(job.frame)]);
       if (progress) progress(++done, jobs.size());
     });
@@ -310,6 +576,7 @@ void generate_capture(const Scene& scene, const std::filesystem::path& directory
     auto timer = report.time("ground_truth");
     write_ground_truth(scene, actor, slots, directory / "ground_truth");
     write_contact_sheet(scene, actor, cameras, slots, directory / "ground_truth" / "contact_sheet.png");
+    if (scene.reconstruction.studio()) write_artefact_sheet(scene, actor, template_parts, cameras, slots, directory);
   }
   write_capture_files(scene, cameras, directory);
 
@@ -332,6 +599,7 @@ void generate_capture(const Scene& scene, const std::filesystem::path& directory
                          {"mean_edge_m", mean_edge_length(actor.body.rest)}};
   figures["reconstructions"] = {{"min_vertices", min_vertices}, {"max_vertices", max_vertices},
                                 {"noise_rms_mm", 1000 * std::sqrt(noise_sum / static_cast<double>(jobs.size()))}};
+  if (scene.reconstruction.studio()) figures["artefacts"] = artefact_figures(scene, slots);
   core::Json parameters = core::Json::object();
   for (std::size_t s = 0; s < scene.sequences.size(); ++s)
     parameters[scene.sequences[s].name] = measure_parameters(scene.sequences[s], slots[s], scene.fps);

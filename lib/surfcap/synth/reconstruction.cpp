@@ -55,16 +55,6 @@ Eigen::Vector3d clamped(Eigen::Vector3d barycentric) {
   return sum > 0 ? Eigen::Vector3d(barycentric / sum) : Eigen::Vector3d(1, 0, 0);
 }
 
-/// Standard normal numbers from a 64-bit Mersenne Twister by Box–Muller: the same on every platform.
-struct Gaussian {
-  std::mt19937_64 engine;
-  double next() {
-    const double u1 = (static_cast<double>(engine() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-    const double u2 = static_cast<double>(engine() >> 11) * (1.0 / 9007199254740992.0);
-    return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
-  }
-};
-
 }  // namespace
 
 double mean_edge_length(const core::Mesh& mesh) {
@@ -84,29 +74,44 @@ Eigen::MatrixXd surface_points(const Eigen::MatrixXd& V, const Eigen::MatrixXi& 
   return points;
 }
 
-Reconstruction reconstruct(const core::Mesh& truth, double edge, std::uint64_t seed,
-                           const ReconstructionOptions& options) {
-  Reconstruction result;
+core::Mesh remesh_truth(const core::Mesh& truth, double edge, std::uint64_t seed, const ReconstructionOptions& options,
+                        double& target_edge) {
   std::mt19937_64 engine(seed);
   const double u = static_cast<double>(engine() >> 11) * (1.0 / 9007199254740992.0);
-  result.target_edge = edge * (1.0 + options.edge_jitter * (2 * u - 1));
+  target_edge = edge * (1.0 + options.edge_jitter * (2 * u - 1));
 
   SurfaceMesh mesh = to_surface_mesh(truth);
   PMP::random_perturbation(mesh, 0.3 * edge,
                            PMP::parameters::random_seed(static_cast<unsigned>(engine() & 0x7fffffff)).do_project(true));
-  PMP::isotropic_remeshing(faces(mesh), result.target_edge, mesh,
-                           PMP::parameters::number_of_iterations(options.iterations));
-  result.mesh = to_mesh(mesh);
+  PMP::isotropic_remeshing(faces(mesh), target_edge, mesh, PMP::parameters::number_of_iterations(options.iterations));
+  return to_mesh(mesh);
+}
 
+core::Mesh remesh_surface(const core::Mesh& input, double edge, int iterations) {
+  SurfaceMesh mesh = to_surface_mesh(input);
+  PMP::isotropic_remeshing(faces(mesh), edge, mesh, PMP::parameters::number_of_iterations(iterations));
+  return to_mesh(mesh);
+}
+
+void closest_truth_points(const core::Mesh& truth, const Eigen::MatrixXd& points, std::vector<int>& face,
+                          Eigen::MatrixXd& barycentric) {
   const geometry::SurfaceQuery query(truth.V, truth.F);
-  const long n = result.mesh.vertex_count();
-  result.face.resize(static_cast<std::size_t>(n));
-  result.barycentric.resize(n, 3);
+  const long n = points.rows();
+  face.resize(static_cast<std::size_t>(n));
+  barycentric.resize(n, 3);
   for (long v = 0; v < n; ++v) {
-    const geometry::SurfacePoint closest = query.closest_point(result.mesh.V.row(v).transpose());
-    result.face[static_cast<std::size_t>(v)] = static_cast<int>(closest.face);
-    result.barycentric.row(v) = clamped(closest.barycentric).transpose();
+    const geometry::SurfacePoint closest = query.closest_point(points.row(v).transpose());
+    face[static_cast<std::size_t>(v)] = static_cast<int>(closest.face);
+    barycentric.row(v) = clamped(closest.barycentric).transpose();
   }
+}
+
+Reconstruction reconstruct(const core::Mesh& truth, double edge, std::uint64_t seed,
+                           const ReconstructionOptions& options) {
+  Reconstruction result;
+  result.mesh = remesh_truth(truth, edge, seed, options, result.target_edge);
+  const long n = result.mesh.vertex_count();
+  closest_truth_points(truth, result.mesh.V, result.face, result.barycentric);
   // The reconstruction's noise-free vertices are exactly its true surface points.
   result.mesh.V = surface_points(truth.V, truth.F, result.face, result.barycentric);
   if (options.noise_sigma > 0) {

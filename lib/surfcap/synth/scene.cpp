@@ -47,9 +47,40 @@ void read(const core::Json& object, const char* key, T& value, const std::string
   }
 }
 
+const char* unseen_name(UnseenMode mode) {
+  switch (mode) {
+    case UnseenMode::remove: return "remove";
+    case UnseenMode::rough: return "rough";
+    default: return "keep";
+  }
+}
+
+/// All the studio models on, at `vertices` per reconstruction and `voxel` metres of carving.
+ReconstructionOptions studio_reconstruction(int vertices, double voxel) {
+  ReconstructionOptions r;
+  r.visual_hull = true;
+  r.voxel = voxel;
+  r.surface_tolerance = voxel;
+  r.vertices = vertices;
+  r.noise_sigma = 0.002;
+  r.floor_cut = true;
+  r.unseen = UnseenMode::remove;
+  r.outlier_fraction = 0.002;
+  r.blobs = 1.0;
+  r.textures = true;
+  return r;
+}
+
 }  // namespace
 
-std::vector<std::string> preset_names() { return {"tiny", "demo", "full"}; }
+UnseenMode unseen_mode(const std::string& name) {
+  if (name == "keep") return UnseenMode::keep;
+  if (name == "remove") return UnseenMode::remove;
+  if (name == "rough") return UnseenMode::rough;
+  throw core::bad_arguments("unseen must be keep, remove or rough, not '" + name + "'");
+}
+
+std::vector<std::string> preset_names() { return {"tiny", "demo", "full", "studio", "studio_tiny"}; }
 
 Scene preset_scene(const std::string& name) {
   Scene scene;
@@ -72,8 +103,25 @@ Scene preset_scene(const std::string& name) {
                        jump("jump_low", 40, 0.15, 0.3),     jump("jump_high", 40, 0.45, 0.3),
                        jump("jump_short", 40, 0.25, 0.2),   jump("jump_long", 44, 0.25, 1.0),
                        reach("reach_low", 50, 0.85),        reach("reach_high", 50, 1.85)};
+  } else if (name == "studio") {
+    scene.body.target_vertices = 6000;
+    scene.studio.cameras = 12;
+    scene.studio.width = 800;
+    scene.studio.height = 600;
+    // CGAL's remeshing lands below the target edge: 37,000 gives about 50,000 vertices.
+    scene.reconstruction = studio_reconstruction(37000, 0.006);
+    scene.reconstruction.unseen = UnseenMode::rough;
+    scene.sequences = {gait("walk", 16, 1, 1.3), gait("run", 12, 1, 3.0), jump("jump_high", 20, 0.45, 0.3),
+                       reach("reach_low", 20, 0.85)};
+  } else if (name == "studio_tiny") {
+    scene.body.target_vertices = 1000;
+    scene.studio.cameras = 6;
+    scene.studio.width = 320;
+    scene.studio.height = 240;
+    scene.reconstruction = studio_reconstruction(3000, 0.02);
+    scene.sequences = {gait("walk", 4, 1, 1.3), jump("jump_high", 6, 0.35, 0.3), reach("reach_low", 6, 0.85)};
   } else {
-    throw core::bad_arguments("unknown preset '" + name + "' (tiny, demo or full)");
+    throw core::bad_arguments("unknown preset '" + name + "' (tiny, demo, full, studio or studio_tiny)");
   }
   return scene;
 }
@@ -91,6 +139,18 @@ void Scene::validate() const {
   if (!(reconstruction.noise_sigma >= 0 && reconstruction.noise_sigma < 0.05)) throw fail("noise must be in [0, 50) mm");
   if (!(reconstruction.edge_jitter >= 0 && reconstruction.edge_jitter < 0.5)) throw fail("edge_jitter must be in [0, 0.5)");
   if (reconstruction.iterations < 1 || reconstruction.iterations > 20) throw fail("iterations must be in [1, 20]");
+  const auto& r = reconstruction;
+  if (!(r.voxel >= 0.002 && r.voxel <= 0.1)) throw fail("voxel_mm must be in [2, 100]");
+  if (!(r.surface_tolerance >= 0 && r.surface_tolerance <= 0.05)) throw fail("surface_tolerance_mm must be in [0, 50]");
+  if (r.vertices < 0 || r.vertices > 500000) throw fail("reconstruction vertices must be in [0, 500000]");
+  if (!(r.floor_height > -1 && r.floor_height < 1)) throw fail("floor_height must be in (-1, 1) m");
+  if (r.min_views < 1 || r.min_views > 64) throw fail("min_views must be in [1, 64]");
+  if (!(r.rough_sigma >= 0 && r.rough_sigma < 0.05)) throw fail("rough_mm must be in [0, 50)");
+  if (!(r.outlier_fraction >= 0 && r.outlier_fraction <= 0.2)) throw fail("outliers must be in [0, 0.2]");
+  if (!(r.outlier_distance >= 0 && r.outlier_distance <= 0.5)) throw fail("outlier_mm must be in [0, 500]");
+  if (!(r.blobs >= 0 && r.blobs <= 20)) throw fail("blobs must be in [0, 20]");
+  if (!(r.blob_radius >= 0.001 && r.blob_radius <= 0.2)) throw fail("blob_radius_mm must be in [1, 200]");
+  if (!(r.texture_scale >= 0.25 && r.texture_scale <= 8)) throw fail("texture_scale must be in [0.25, 8]");
   if (sequences.empty()) throw fail("no sequences");
   std::set<std::string> names;
   for (const auto& s : sequences)
@@ -106,7 +166,7 @@ long Scene::total_frames() const {
 core::Json scene_to_json(const Scene& s) {
   core::Json sequences = core::Json::array();
   for (const auto& m : s.sequences) sequences.push_back(motion_to_json(m));
-  return {{"format", core::format_tag("synth_scene", 1)},
+  core::Json document = {{"format", core::format_tag("synth_scene", 1)},
           {"name", s.name},
           {"fps", s.fps},
           {"seed", s.seed},
@@ -130,6 +190,25 @@ core::Json scene_to_json(const Scene& s) {
             {"damping", s.garment.damping},
             {"drag", s.garment.drag}}},
           {"sequences", sequences}};
+  // The studio models appear only when one is on: scenes without them read and write as before.
+  const auto& r = s.reconstruction;
+  if (r.studio())
+    document["reconstruction"].update({{"model", r.visual_hull ? "visual_hull" : "remesh"},
+                                       {"voxel_mm", r.voxel * 1000},
+                                       {"surface_tolerance_mm", r.surface_tolerance * 1000},
+                                       {"vertices", r.vertices},
+                                       {"floor_cut", r.floor_cut},
+                                       {"floor_height", r.floor_height},
+                                       {"unseen", unseen_name(r.unseen)},
+                                       {"min_views", r.min_views},
+                                       {"rough_mm", r.rough_sigma * 1000},
+                                       {"outliers", r.outlier_fraction},
+                                       {"outlier_mm", r.outlier_distance * 1000},
+                                       {"blobs", r.blobs},
+                                       {"blob_radius_mm", r.blob_radius * 1000},
+                                       {"textures", r.textures},
+                                       {"texture_scale", r.texture_scale}});
+  return document;
 }
 
 Scene scene_from_json(const core::Json& d, const std::string& source) {
@@ -168,6 +247,36 @@ Scene scene_from_json(const core::Json& d, const std::string& source) {
     read(r, "noise_mm", noise_mm, source);
     s.reconstruction.noise_sigma = noise_mm / 1000;
     read(r, "iterations", s.reconstruction.iterations, source);
+    auto& o = s.reconstruction;
+    std::string model = "remesh", unseen = unseen_name(o.unseen);
+    read(r, "model", model, source);
+    if (model != "remesh" && model != "visual_hull")
+      throw core::bad_arguments(source + ": reconstruction.model must be \"remesh\" or \"visual_hull\"");
+    o.visual_hull = model == "visual_hull";
+    auto millimetres = [&](const char* key, double& metres) {
+      double mm = metres * 1000;
+      read(r, key, mm, source);
+      metres = mm / 1000;
+    };
+    millimetres("voxel_mm", o.voxel);
+    millimetres("surface_tolerance_mm", o.surface_tolerance);
+    read(r, "vertices", o.vertices, source);
+    read(r, "floor_cut", o.floor_cut, source);
+    read(r, "floor_height", o.floor_height, source);
+    read(r, "unseen", unseen, source);
+    try {
+      o.unseen = unseen_mode(unseen);
+    } catch (const core::Error& e) {
+      throw core::bad_arguments(source + ": reconstruction." + e.what());
+    }
+    read(r, "min_views", o.min_views, source);
+    millimetres("rough_mm", o.rough_sigma);
+    read(r, "outliers", o.outlier_fraction, source);
+    millimetres("outlier_mm", o.outlier_distance);
+    read(r, "blobs", o.blobs, source);
+    millimetres("blob_radius_mm", o.blob_radius);
+    read(r, "textures", o.textures, source);
+    read(r, "texture_scale", o.texture_scale, source);
   }
   if (d.contains("garment")) {
     read(d["garment"], "natural_frequency", s.garment.natural_frequency, source);

@@ -42,7 +42,10 @@ struct Scene {
   long total_frames() const;
 };
 
-/// Built-in presets: "tiny", "demo", "full"; bad_arguments for another name.
+/// "keep", "remove" or "rough"; bad_arguments for another name.
+UnseenMode unseen_mode(const std::string& name);
+
+/// Built-in presets: "tiny", "demo", "full", "studio", "studio_tiny"; bad_arguments for another name.
 Scene preset_scene(const std::string& name);
 std::vector<std::string> preset_names();
 
