@@ -15,6 +15,7 @@
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/mesh_precheck.hpp"
 
 namespace surfcap::core {
@@ -138,9 +139,10 @@ std::string find_non_finite_token(const std::filesystem::path& path) {
 Mesh read_and_validate(const std::filesystem::path& path, const std::string& extension,
                        const MeshRequirements& requirements, std::optional<long> frame) {
   check_extension(path, extension);
+  check_regular_file(path, frame);  // before any open: a FIFO would block it
   {
     std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw io_error(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
+    if (!probe) throw io_error(path, "cannot open for reading");
   }
   const MeshFileCounts declared = precheck_mesh_file(path, extension, frame);
 
@@ -167,6 +169,9 @@ Mesh read_and_validate(const std::filesystem::path& path, const std::string& ext
 
   Mesh mesh = mesh_from_recording(om, importer, options.check(OpenMesh::IO::Options::VertexColor),
                                   options.check(OpenMesh::IO::Options::VertexTexCoord));
+  if (mesh.V.size() > 0 && mesh.V.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    throw bad_input(path, "vertex coordinates beyond the plausible magnitude (|x| ≤ " + std::to_string(long(kMaxCoordinate)) +
+                              " m)", frame);
   validate_mesh(mesh, requirements, path, frame);
   return mesh;
 }
