@@ -9,6 +9,7 @@
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/json_document.hpp"
 
 namespace surfcap::fuzz {

@@ -15,8 +15,6 @@ struct CommonOptions {
   int threads = 0;  ///< 0: all hardware threads
   LogOptions log;
   std::string config;  ///< --config file the options were read from, if any
-  std::string max_memory = "0";  ///< --max-memory: budget for what inputs may request (0: half the RAM)
-  bool allow_outside_paths = false;  ///< --allow-outside-paths: documents may name paths outside their folder
 };
 
 /// Reads --config files: a JSON object whose keys are long option names (without "--"),

@@ -9,9 +9,33 @@
 #include <string>
 #include <string_view>
 
+#include "surfcap/core/error.hpp"
 #include "surfcap/core/json_document.hpp"
 
 namespace surfcap::core {
+
+/// Arrays and objects nested deeper than this are bad input (no surfcap document needs more than
+/// a handful of levels; a deep nesting would exhaust the stack of recursive JSON code).
+constexpr int kMaxJsonDepth = 64;
+
+/// The one JSON parser of surfcap: checks the nesting depth first, then parses. bad_input naming
+/// `source` (with line and column) on any error. read_json_file, --config files and the .glb
+/// reader use it.
+Json parse_json_text(std::string_view text, const std::filesystem::path& source);
+
+/// nlohmann's message without its "[json.exception.type_error.302] " prefix.
+std::string json_error_text(const nlohmann::json::exception& error);
+
+/// Runs `read` (which reads fields of a document of `file`) and turns any nlohmann::json exception
+/// (a field of the wrong type, a missing key read with .at()) into bad_input naming the file.
+template <class Read>
+auto read_document_fields(const std::filesystem::path& file, Read&& read) -> decltype(read()) {
+  try {
+    return read();
+  } catch (const nlohmann::json::exception& e) {
+    throw bad_input(file, "a field is missing or has the wrong type: " + json_error_text(e));
+  }
+}
 
 /// Set once per process by ToolApp from --allow-outside-paths and --max-memory.
 struct InputPolicy {

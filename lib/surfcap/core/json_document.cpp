@@ -5,6 +5,7 @@
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 
 namespace surfcap::core {
 

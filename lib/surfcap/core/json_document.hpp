@@ -22,19 +22,6 @@ int document_version(const Json& document);
 /// Parses any JSON file (configs without a format tag); bad_input with line/column on syntax errors.
 Json read_json_file(const std::filesystem::path& path);
 
-/// Arrays and objects nested deeper than this are bad input (no surfcap document needs more than
-/// a handful of levels; a deep nesting would exhaust the stack of recursive JSON code).
-constexpr int kMaxJsonDepth = 64;
-
-/// The one JSON parser of surfcap: checks the nesting depth first, then parses. bad_input naming
-/// `source` (with line and column) on any error. read_json_file and the .glb reader use it.
-Json parse_json_text(std::string_view text, const std::filesystem::path& source);
-
-/// Runs `read` (which reads fields of a document of `file`) and turns any nlohmann::json exception
-/// (a field of the wrong type, a missing key read with .at()) into bad_input naming the file.
-template <class Read>
-auto read_document_fields(const std::filesystem::path& file, Read&& read) -> decltype(read());
-
 /// Writes `document` atomically, pretty-printed (2 spaces) with a trailing newline. Keys come out
 /// sorted, so the bytes depend only on the content.
 void write_json_file(const std::filesystem::path& path, const Json& document);

@@ -40,8 +40,8 @@ expect() {
   if [[ $got -ne $code ]]; then
     echo "FAIL [$label]: exit $got, expected $code"; tail -3 "$work/stderr"; exit 1
   fi
-  if grep -qE "json\.exception|internal error" "$work/stderr"; then
-    echo "FAIL [$label]: a raw JSON library message or an internal error:"; tail -3 "$work/stderr"; exit 1
+  if grep -qE "invalid JSON content|internal error" "$work/stderr"; then
+    echo "FAIL [$label]: an internal error or a JSON message without its file:"; tail -3 "$work/stderr"; exit 1
   fi
   local needle
   for needle in "${needles[@]}"; do
