@@ -14,7 +14,8 @@ tools=$build/tools
 source "$(dirname "$0")/support/common.bash"
 require_tools surfcap-synth surfcap-align surfcap-learn surfcap-precompute surfcap-edit surfcap-export surfcap-play
 work=$(mktemp -d "${TMPDIR:-/tmp}/hostile_inputs.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+# SURFCAP_KEEP_VALID=DIR keeps a copy of the valid inputs (e.g. to seed the fuzz corpus).
+trap '[[ -z ${SURFCAP_KEEP_VALID:-} ]] || cp -a "$valid" "$SURFCAP_KEEP_VALID"; rm -rf "$work"' EXIT
 valid=$work/valid
 quiet=(--log-level error --threads 2)
 "$tools/surfcap-synth" --preset tiny --no-images --out "$valid/capture" "${quiet[@]}"

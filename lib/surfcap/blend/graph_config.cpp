@@ -49,8 +49,8 @@ GraphConfig read_graph_config(const std::filesystem::path& path) {
           range.name = core::check_name(path, "sequences", sequence.get<std::string>());
         } else {
           range.name = core::name_field(sequence, "name", path);
-          range.first = static_cast<int>(core::integer_field(sequence, "first", path, 0, core::kMaxFrames, 0));
-          range.last = static_cast<int>(core::integer_field(sequence, "last", path, -1, core::kMaxFrames, -1));
+          range.first = static_cast<int>(core::integer_field_or(sequence, "first", path, 0, core::kMaxFrames, 0));
+          range.last = static_cast<int>(core::integer_field_or(sequence, "last", path, -1, core::kMaxFrames, -1));
         }
         space.sequences.push_back(range);
       }
@@ -66,10 +66,10 @@ GraphConfig read_graph_config(const std::filesystem::path& path) {
         space.parameters.push_back(spec);
       }
       space.cyclic = item.value("cyclic", false);
-      space.frames = static_cast<int>(core::integer_field(item, "frames", path, 0, core::kMaxFrames, 0));
+      space.frames = static_cast<int>(core::integer_field_or(item, "frames", path, 0, core::kMaxFrames, 0));
       space.tolerance_mm = core::number_field(item, "tolerance_mm", path, 1e-6, 1e6, 5.0);
       // The parameter-map degree stored spaces accept (parameter_map_json).
-      space.degree = static_cast<int>(core::integer_field(item, "degree", path, 0, 16, 2));
+      space.degree = static_cast<int>(core::integer_field_or(item, "degree", path, 0, 16, 2));
       const int d = weight_space_dimensions(static_cast<int>(space.sequences.size()));
       if (!space.parameters.empty() && static_cast<int>(space.parameters.size()) != d)
         throw core::bad_input(path, "space '" + space.name + "': " + std::to_string(space.sequences.size()) +

@@ -45,7 +45,7 @@ StoredSpace stored_space_from_entry(const core::Json& entry, const std::filesyst
     throw core::bad_input(file, "space '" + space.name + "': needs 1–3 dimensions and at least 2 frames");
   for (const core::Json& source : core::get_field<core::Json>(entry, "sequences", file))
     space.sources.push_back({core::name_field(source, "name", file),
-                             static_cast<int>(core::integer_field(source, "first", file, 0, core::kMaxFrames, 0)),
+                             static_cast<int>(core::integer_field_or(source, "first", file, 0, core::kMaxFrames, 0)),
                              static_cast<int>(core::integer_field(source, "frames", file, 1, core::kMaxFrames)),
                              core::number_field(source, "duration_s", file, 0, core::kMaxDurationS, 0.0)});
   for (const core::Json& parameter : entry.value("parameters", core::Json::array())) {

@@ -169,7 +169,7 @@ static Capture read_capture_document(const std::filesystem::path& file) {
     // where every file of the pattern is.
     resolve_document_path(file, "frames", expand_pattern(sequence.frames, 0));
     if (!sequence.images.empty()) resolve_document_path(file, "images", expand_pattern(sequence.images, 0, "camera"));
-    sequence.first = static_cast<int>(integer_field(entry, "first", file, 0, 1'000'000'000, 0));
+    sequence.first = static_cast<int>(integer_field_or(entry, "first", file, 0, 1'000'000'000, 0));
     sequence.count = static_cast<int>(integer_field(entry, "count", file, 1, kMaxFrames));
     capture.sequences.push_back(sequence);
   }

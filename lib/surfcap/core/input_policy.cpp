@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/json_integer.hpp"
 
 namespace surfcap::core {
 namespace {
@@ -124,6 +125,11 @@ void check_memory(const std::filesystem::path& file, const std::string& what, do
   if (!(bytes <= budget))
     throw bad_input(file, what + " needs " + gigabytes(bytes) + ", more than the memory budget of " + gigabytes(budget) +
                               " (--max-memory)");
+}
+
+long integer_field_or(const Json& object, std::string_view key, const std::filesystem::path& document, long min,
+                      long max, long fallback) {
+  return object.is_object() && object.contains(key) ? integer_field(object, key, document, min, max) : fallback;
 }
 
 double check_magnitude(const std::filesystem::path& file, const std::string& what, double value, double max_abs) {

@@ -81,6 +81,10 @@ std::uint64_t check_regular_file(const std::filesystem::path& path, std::optiona
 /// before anything is allocated.
 void check_memory(const std::filesystem::path& file, const std::string& what, double bytes);
 
+/// object[key] as an integer in [min, max] (core::integer_field); `fallback` when absent.
+long integer_field_or(const Json& object, std::string_view key, const std::filesystem::path& document, long min,
+                      long max, long fallback);
+
 /// A finite number of magnitude ≤ max_abs; bad_input naming `file` and `what` otherwise.
 double check_magnitude(const std::filesystem::path& file, const std::string& what, double value, double max_abs);
 /// object[key] as a finite number in [min, max]; `fallback` when absent (bad_input if no fallback).

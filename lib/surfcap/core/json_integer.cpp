@@ -30,9 +30,4 @@ long integer_field(const Json& object, std::string_view key, const std::filesyst
   return checked_integer(*it, "field \"" + std::string(key) + "\"", file, min, max);
 }
 
-long integer_field(const Json& object, std::string_view key, const std::filesystem::path& file, long min, long max,
-                   long fallback) {
-  return object.is_object() && object.contains(key) ? integer_field(object, key, file, min, max) : fallback;
-}
-
 }  // namespace surfcap::core

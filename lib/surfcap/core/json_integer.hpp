@@ -17,8 +17,5 @@ long checked_integer(const Json& value, std::string_view what, const std::filesy
 /// The integer object[key] within [min, max]; bad_input when it is missing or otherwise.
 long integer_field(const Json& object, std::string_view key, const std::filesystem::path& file,
                    long min = std::numeric_limits<int>::min(), long max = std::numeric_limits<int>::max());
-/// The same, `fallback` when the field is absent.
-long integer_field(const Json& object, std::string_view key, const std::filesystem::path& file, long min, long max,
-                   long fallback);
 
 }  // namespace surfcap::core

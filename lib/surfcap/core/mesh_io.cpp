@@ -328,7 +328,7 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshRequirements& requir
   try {
     return read_and_validate(path, lowercase_extension(path), requirements, frame);
   } catch (const Error& error) {
-    if (error.code() != ExitCode::bad_input) throw;
+    if (error.code() != ExitCode::bad_input || !std::filesystem::is_regular_file(path)) throw;
     if (const std::string token = find_non_finite_token(path); !token.empty())
       throw bad_input(path, "NaN/Inf vertex coordinates: " + token, frame);
     throw;

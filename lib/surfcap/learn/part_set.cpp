@@ -213,7 +213,7 @@ PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, c
       for (long v = 0; v < n; ++v)
         if (d[v] <= overlap) part.vertices.push_back(static_cast<int>(v));
     }
-    const int rings = static_cast<int>(core::integer_field(p, "overlap_rings", source, 0, 1000, 0));
+    const int rings = static_cast<int>(core::integer_field_or(p, "overlap_rings", source, 0, 1000, 0));
     if (rings > 0) part.vertices = geometry::grow_region(adjacency, part.vertices, rings);
     cores.push_back(core_vertices);
     set.parts.push_back(std::move(part));

@@ -105,7 +105,7 @@ ControlScript parse_control_script(const core::Json& json, const std::filesystem
                      frames * static_cast<double>(character.vertex_count()) * 3 * 3 * sizeof(double));
   const core::Json planner = json.value("planner", core::Json::object());
   if (!planner.is_object()) throw core::bad_input(file, "\"planner\" must be an object");
-  script.planner.depth = static_cast<int>(core::integer_field(planner, "depth", file, 0, 100, script.planner.depth));
+  script.planner.depth = static_cast<int>(core::integer_field_or(planner, "depth", file, 0, 100, script.planner.depth));
   script.planner.latency_weight = core::number_field(planner, "latency_weight", file, 0, 1e6, script.planner.latency_weight);
   script.planner.parameter_step = core::number_field(planner, "parameter_step", file, 0, 1, script.planner.parameter_step);
   try {

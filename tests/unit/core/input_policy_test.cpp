@@ -105,7 +105,7 @@ TEST(InputPolicy, JsonNestingIsBounded) {
 TEST(InputPolicy, TypedFieldsNameTheFileAndTheField) {
   const core::Json object = {{"count", 2147483648.0}, {"half", 2.5}, {"big", 4294967296}, {"name", 3}, {"ok", 7}};
   EXPECT_EQ(core::integer_field(object, "ok", "f.json", 0, 10), 7);
-  EXPECT_EQ(core::integer_field(object, "absent", "f.json", 0, 10, 3), 3);
+  EXPECT_EQ(core::integer_field_or(object, "absent", "f.json", 0, 10, 3), 3);
   for (const char* key : {"count", "half", "big"}) {
     const std::string message = error_of([&] { core::integer_field(object, key, "f.json", 0, 2147483647); });
     EXPECT_TRUE(contains(message, "f.json") && contains(message, key) && contains(message, "integer")) << message;
