@@ -57,15 +57,15 @@ edit() { "$tools/surfcap-edit" --model "$case/model/parts.json" --edit "$case/ed
 # Helpers that craft the inputs (python: no numpy needed).
 deep() { python3 -c "import sys; n = int(sys.argv[1]); sys.stdout.write('[' * n + ']' * n)" "${1:-1000000}"; }
 nest_field() {  # file python-path: replaces d<python-path> by 10^6 nested arrays (text, not json.dump)
-  py "$1" "$2" "$(deep)" << 'PY'
+  py "$1" "$2" << 'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 exec("d" + sys.argv[2] + " = '@DEEP@'")
-open(sys.argv[1], "w").write(json.dumps(d).replace('"@DEEP@"', sys.argv[3]))
+open(sys.argv[1], "w").write(json.dumps(d).replace('"@DEEP@"', "[" * 10**6 + "]" * 10**6))
 PY
 }
 glb_json() {  # file python-statement on the JSON chunk `j` ('@DEEP@' strings become 10^6 nested arrays)
-  py "$1" "$2" "$(deep)" << 'PY'
+  py "$1" "$2" << 'PY'
 import json, struct, sys
 raw = open(sys.argv[1], "rb").read()
 magic, version, _ = struct.unpack("<III", raw[:12])
@@ -73,7 +73,7 @@ length, kind = struct.unpack("<II", raw[12:20])
 j = json.loads(raw[20:20 + length])
 rest = raw[20 + length:]
 exec(sys.argv[2])
-text = json.dumps(j).replace('"@DEEP@"', sys.argv[3]).encode()
+text = json.dumps(j).replace('"@DEEP@"', "[" * 10**6 + "]" * 10**6).encode()
 text += b" " * (-len(text) % 4)
 open(sys.argv[1], "wb").write(struct.pack("<III", magic, version, 20 + len(text) + len(rest)) +
                               struct.pack("<II", len(text), kind) + text + rest)
