@@ -210,7 +210,7 @@ expect 3 "template.ply'" "FIFO" -- learn; count 2
 fresh "control script that is a FIFO"; rm "$case/control.json"; mkfifo "$case/control.json"
 expect 3 "control.json'" "FIFO" -- play; count 2
 fresh "capture.json that is a directory"; rm "$case/capture/capture.json"; mkdir "$case/capture/capture.json"
-expect 3 "capture.json'" "directory" -- histograms --capture "$case/capture/capture.json"; count 2
+expect 3 "capture.json'" "directory" -- histograms; count 2
 
 echo "3. runaway memory: requests beyond the budget are refused up front"
 fresh "control script: duration 4e7 s"; json_set "$case/control.json" 'd["duration_s"] = 4e7'

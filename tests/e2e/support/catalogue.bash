@@ -32,9 +32,17 @@ expect() {
   while [[ $1 != -- ]]; do needles+=("$1"); shift; done
   shift
   local got=0
-  timeout "${SURFCAP_CASE_TIMEOUT:-120}" "$@" > "$work/stdout" 2> "$work/stderr" || got=$?
+  local limit=${SURFCAP_CASE_TIMEOUT:-120}
+  "$@" > "$work/stdout" 2> "$work/stderr" &
+  local pid=$!
+  # A watchdog instead of timeout(1): the command may be a shell function.
+  ( sleep "$limit"; touch "$work/hung"; pkill -KILL -P "$pid"; kill -KILL "$pid" ) 2> /dev/null &
+  local watchdog=$!
+  rm -f "$work/hung"
+  wait "$pid" || got=$?
+  kill "$watchdog" 2> /dev/null || true
   tried=$((tried + 1))
-  if [[ $got -eq 124 ]]; then
+  if [[ -e $work/hung ]]; then
     echo "FAIL [$label]: still running after ${SURFCAP_CASE_TIMEOUT:-120} s (a hang)"; exit 1
   fi
   if [[ $got -ne $code ]]; then
