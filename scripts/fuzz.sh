@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan+UBSan, core, blend and asset modules only) into build-fuzz/ and runs
-# each for a bounded time from the seed corpus in tests/fuzz/corpus/<target>/.
+# Builds the libFuzzer targets (clang, ASan+UBSan; only the modules the readers need) into
+# build-fuzz/ and runs each, one after the other, for a bounded time from the seed corpus in
+# tests/fuzz/corpus/<target>/.
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
+# Environment: SURFCAP_FUZZ_RUNS=N also stops each target after N executions.
 # Findings (crashing inputs) land in build-fuzz/findings/<target>/; the summary in
 # build-fuzz/fuzz-summary.txt lists executions and findings per target.
 set -euo pipefail
@@ -17,7 +19,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DSURFCAP_FUZZ=ON \
-  -DSURFCAP_MODULES="core;blend;asset" -DSURFCAP_BUILD_TOOLS=OFF -DSURFCAP_BUILD_TESTS=OFF > build-fuzz.configure.log 2>&1 \
+  -DSURFCAP_MODULES="core;geometry;blend;graph;learn;asset;runtime;render" -DSURFCAP_BUILD_TOOLS=OFF -DSURFCAP_BUILD_TESTS=OFF > build-fuzz.configure.log 2>&1 \
   || { cat build-fuzz.configure.log; exit 1; }
 rm -f build-fuzz.configure.log
 targets=("$@")
@@ -38,12 +40,12 @@ for target in "${targets[@]}"; do
   set +e
   ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
     ./build-fuzz/tests/fuzz/fuzz_"$target" -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=65536 \
-    -timeout=10 -print_final_stats=1 -artifact_prefix="$findings/" "$work" > "$log" 2>&1
+    -timeout=10 ${SURFCAP_FUZZ_RUNS:+-runs=$SURFCAP_FUZZ_RUNS} -print_final_stats=1 -artifact_prefix="$findings/" "$work" > "$log" 2>&1
   rc=$?
   set -e
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   found=$(ls "$findings" | wc -l)
-  echo "$target: $runs executions in ${seconds}s, $found findings (exit $rc)" | tee -a "$summary"
+  echo "$target: $runs executions (at most ${seconds} s), $found findings (exit $rc)" | tee -a "$summary"
   [ "$rc" -eq 0 ] && [ "$found" -eq 0 ] || status=1
 done
 exit $status

@@ -23,18 +23,10 @@ cat > "$valid/edit.json" << 'JSON'
 {"format": "surfcap.edit/1", "anchors": [{"part_core": "torso"}], "handles": [{"region": "foot_l", "translate": [0, 0.05, 0]}]}
 JSON
 cp "$source/configs/graphs/tiny.json" "$valid/graph.json"
-tried=0
+source "$(dirname "$0")/support/catalogue.bash"
 repaired=0
 
-# Corrupting helpers (python: no numpy needed).
-py() { python3 - "$@"; }
-truncate_half() { local size; size=$(stat -c %s "$1"); truncate -s $((size / 2)) "$1"; }
-set_format() {  # file new_format_tag
-  py "$1" "$2" << 'PY'
-import json, sys
-d = json.load(open(sys.argv[1])); d["format"] = sys.argv[2]; json.dump(d, open(sys.argv[1], "w"))
-PY
-}
+# Corrupting helpers (python: no numpy needed); py, truncate_half, set_format: support/catalogue.bash.
 npy_edit() {  # file mode: drop_vertex | float64 | nan_frame:F | shape:A,B
   py "$1" "$2" << 'PY'
 import ast, struct, sys
@@ -150,37 +142,6 @@ for camera in cameras:
         open(root + "/walk/images/%s/%06d.png" % (camera["name"], frame), "wb").write(b"\x89PNG\r\n\x1a\n" + chunk)
 print(cameras[0]["name"], cameras[0]["width"], cameras[0]["height"])
 PY
-}
-
-# expect CODE NEEDLE... -- command: runs it on a fresh copy (case/), expects the exit code and
-# every NEEDLE in its stderr; no final file may appear under case/out.
-expect() {
-  local code=$1
-  shift
-  local needles=()
-  while [[ $1 != -- ]]; do needles+=("$1"); shift; done
-  shift
-  local got=0
-  "$@" > "$work/stdout" 2> "$work/stderr" || got=$?
-  tried=$((tried + 1))
-  if [[ $got -ne $code ]]; then
-    echo "FAIL [$label]: exit $got, expected $code"; tail -3 "$work/stderr"; exit 1
-  fi
-  local needle
-  for needle in "${needles[@]}"; do
-    grep -qF -- "$needle" "$work/stderr" || { echo "FAIL [$label]: stderr lacks '$needle':"; tail -3 "$work/stderr"; exit 1; }
-  done
-  if [[ $code -ne 0 && -d $case/out ]] && [[ -n $(find "$case/out" -type f ! -name '.*') ]]; then
-    echo "FAIL [$label]: failed but left $(find "$case/out" -type f ! -name '.*' | head -1)"; exit 1
-  fi
-  printf '  %-58s exit %d  %s\n' "$label" "$got" "$(grep -o "'[^']*'[^:]*: .*" "$work/stderr" | tail -1 | cut -c1-90 | sed "s|$case/||g")"
-}
-# fresh LABEL: a pristine copy of the valid inputs in $case.
-fresh() {
-  label=$1
-  case=$work/case
-  rm -rf "$case"
-  cp -a "$valid" "$case"
 }
 
 histograms() { "$tools/surfcap-align" histograms --capture "$case/capture" --out "$case/out" --threads 2 --log-level warn; }

@@ -7,6 +7,7 @@
 
 #include "surfcap/core/cli.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/report.hpp"
 #include "surfcap/learn/edit_file.hpp"
@@ -72,6 +73,9 @@ int main(int argc, char** argv) {
     double residual = 0;
     for (std::size_t i = 0; i < vertices.size(); ++i)
       residual = std::max(residual, (edited.row(vertices[i]) - targets.row(static_cast<Eigen::Index>(i))).norm());
+    if (!edited.allFinite() || edited.cwiseAbs().maxCoeff() > core::kMaxCoordinate)
+      throw core::bad_input(edit_path, "the edit moves vertices beyond the plausible magnitude (" +
+                                           std::to_string(static_cast<long>(core::kMaxCoordinate)) + " m)");
     const Eigen::VectorXd moved = (edited - mesh.V).rowwise().norm();
     mesh.V = edited;
     core::write_mesh(output, mesh);

@@ -183,6 +183,13 @@ int main(int argc, char** argv) {
   return app.run(argc, argv, [&] {
     if (arguments.study <= 0 && arguments.script.empty()) throw core::bad_arguments("--script is required (or --study N)");
     if (arguments.check_exact < 0) throw core::bad_arguments("--check-exact must be ≥ 0");
+    if (arguments.preview_frames < 1 || arguments.preview_frames > 1000)
+      throw core::bad_arguments("--preview-frames must be in [1, 1000]");
+    if (arguments.study < 0 || arguments.study > 1'000'000) throw core::bad_arguments("--study must be in [0, 1000000]");
+    if (arguments.study_repeats < 1 || arguments.study_repeats > 1'000'000)
+      throw core::bad_arguments("--study-repeats must be in [1, 1000000]");
+    if (!(arguments.study_latency_weight >= 0 && arguments.study_latency_weight <= 1e6))
+      throw core::bad_arguments("--study-latency-weight must be in [0, 1e6]");
     core::StageReport report("play");
     asset::Character character;
     {

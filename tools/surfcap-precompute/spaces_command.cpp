@@ -6,6 +6,7 @@
 #include "surfcap/blend/motion_space.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/logging.hpp"
 #include "surfcap/core/progress.hpp"
 #include "surfcap/core/report.hpp"
@@ -56,6 +57,21 @@ void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
   {
     auto timer = report.time("read_database");
     database = core::read_database(arguments.database);
+  }
+  // What the config asks of every selected space is checked before any is built, so that a bad
+  // space leaves no outputs of the spaces before it.
+  const long V = database.template_mesh.vertex_count();
+  for (const blend::SpaceConfig* space : selected) {
+    for (const blend::ParameterSpec& spec : space->parameters)
+      for (int v : spec.vertices)
+        if (v < 0 || v >= V)
+          throw core::bad_input(space->source, "space '" + space->name + "': parameter '" + spec.name + "' names vertex " +
+                                                   std::to_string(v) + ", the template has " + std::to_string(V));
+    if (space->frames > 0)
+      core::check_memory(space->source, "space '" + space->name + "' (" + std::to_string(space->frames) +
+                                            " normalised frames of " + std::to_string(space->sequences.size()) +
+                                            " sequences, " + std::to_string(V) + " vertices)",
+                         4.0 * sizeof(double) * static_cast<double>(space->sequences.size()) * space->frames * V * 3);
   }
   std::unique_ptr<blend::NonlinearBlender> blender;
   {

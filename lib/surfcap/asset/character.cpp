@@ -1,6 +1,7 @@
 #include "surfcap/asset/character.hpp"
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/version.hpp"
 #include "surfcap/graph/transition_files.hpp"
 
@@ -58,8 +59,8 @@ Character assemble_character(const CharacterInputs& inputs) {
 
   for (const core::Json& entry : graph.value("transitions", core::Json::array())) {
     CharacterTransition transition;
-    transition.from = core::get_field<std::string>(entry, "from", inputs.graph);
-    transition.to = core::get_field<std::string>(entry, "to", inputs.graph);
+    transition.from = core::name_field(entry, "from", inputs.graph);  // they name the transition's file
+    transition.to = core::name_field(entry, "to", inputs.graph);
     const int from = character.space_index(transition.from), to = character.space_index(transition.to);
     if (from < 0 || to < 0)
       throw core::bad_input(inputs.graph, "transition " + transition.from + " → " + transition.to + " names an undeclared space");

@@ -292,6 +292,12 @@ tinygltf::Model load_gltf(std::string_view glb_bytes, const std::filesystem::pat
                                               static_cast<unsigned int>(glb_bytes.size()), "");
   if (!ok) throw core::bad_input(source, "not a valid glTF file: " + (error.empty() ? warning : error));
   if (model.buffers.empty()) throw core::bad_input(source, "no buffer");
+  // A character is one self-contained file: an image or buffer naming a URI (a file beside it,
+  // file:///etc/shadow, a web address) is refused, never followed.
+  for (const auto& image : model.images)
+    if (!image.uri.empty()) throw core::bad_input(source, "an image refers to the external URI '" + image.uri.substr(0, 200) + "'");
+  for (const auto& buffer : model.buffers)
+    if (!buffer.uri.empty()) throw core::bad_input(source, "a buffer refers to the external URI '" + buffer.uri.substr(0, 200) + "'");
   return model;
 }
 

@@ -9,6 +9,7 @@
 #include "surfcap/asset/glb_extension.hpp"
 #include "surfcap/asset/glb_meshopt.hpp"
 #include "surfcap/asset/glb_morph.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/atomic_file.hpp"
 
 namespace surfcap::asset {
@@ -156,7 +157,8 @@ Character read_character(const tinygltf::Model& model, const GlbAccessors& acces
   Character character;
   character.name = core::get_field<std::string>(extension, "name", source);
   character.fps = core::get_field<double>(extension, "fps", source);
-  if (!(character.fps > 0)) throw core::bad_input(source, "fps must be positive");
+  if (!(character.fps > 0 && character.fps <= core::kMaxFps))
+    throw core::bad_input(source, "fps must be in (0, " + std::to_string(static_cast<int>(core::kMaxFps)) + "]");
   character.units = extension.value("units", std::string("m"));
   if (extension.contains("provenance")) character.provenance = extension["provenance"];
   read_template(model, accessors, extension, version, character);
@@ -177,7 +179,7 @@ Character read_character(const tinygltf::Model& model, const GlbAccessors& acces
 Character parse_character_glb(std::string_view bytes, const std::filesystem::path& source) {
   const GlbChunks chunks = unpack_glb(bytes, source);
   try {
-    const core::Json json = core::Json::parse(chunks.json);
+    const core::Json json = core::parse_json_text(chunks.json, source);
     const auto extensions = json.find("extensions");
     if (extensions == json.end() || !extensions->is_object() || !extensions->contains(motion_graph_extension))
       throw core::bad_input(source, std::string("no ") + motion_graph_extension + " extension: not a surfcap character");

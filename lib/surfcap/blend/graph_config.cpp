@@ -2,7 +2,11 @@
 
 #include "surfcap/blend/source_set.hpp"
 #include "surfcap/core/error.hpp"
+#include <limits>
+
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/json_document.hpp"
+#include "surfcap/core/json_integer.hpp"
 
 namespace surfcap::blend {
 
@@ -38,15 +42,15 @@ GraphConfig read_graph_config(const std::filesystem::path& path) {
     for (const auto& item : json.at("spaces")) {
       SpaceConfig space;
       space.source = path;
-      space.name = item.at("name").get<std::string>();
+      space.name = core::name_field(item, "name", path);  // it names the space's output folder
       for (const auto& sequence : item.at("sequences")) {
         SequenceRange range;
         if (sequence.is_string()) {
-          range.name = sequence.get<std::string>();
+          range.name = core::check_name(path, "sequences", sequence.get<std::string>());
         } else {
-          range.name = sequence.at("name").get<std::string>();
-          range.first = sequence.value("first", 0);
-          range.last = sequence.value("last", -1);
+          range.name = core::name_field(sequence, "name", path);
+          range.first = static_cast<int>(core::integer_field_or(sequence, "first", path, 0, core::kMaxFrames, 0));
+          range.last = static_cast<int>(core::integer_field_or(sequence, "last", path, -1, core::kMaxFrames, -1));
         }
         space.sequences.push_back(range);
       }
@@ -54,15 +58,18 @@ GraphConfig read_graph_config(const std::filesystem::path& path) {
         ParameterSpec spec;
         spec.name = parameter.at("name").get<std::string>();
         spec.measure = parse_measure(parameter.at("measure").get<std::string>());
-        spec.vertices = parameter.value("vertices", std::vector<int>{});
+        for (const auto& vertex : parameter.value("vertices", core::Json::array()))
+          spec.vertices.push_back(static_cast<int>(core::checked_integer(
+              vertex, "parameter '" + spec.name + "': a vertex index", path, 0, std::numeric_limits<int>::max())));
         if (spec.measure == Measure::hand_height && spec.vertices.empty())
           throw core::bad_input(path, "parameter '" + spec.name + "': hand_height needs \"vertices\"");
         space.parameters.push_back(spec);
       }
       space.cyclic = item.value("cyclic", false);
-      space.frames = item.value("frames", 0);
-      space.tolerance_mm = item.value("tolerance_mm", 5.0);
-      space.degree = item.value("degree", 2);
+      space.frames = static_cast<int>(core::integer_field_or(item, "frames", path, 0, core::kMaxFrames, 0));
+      space.tolerance_mm = core::number_field(item, "tolerance_mm", path, 1e-6, 1e6, 5.0);
+      // The parameter-map degree stored spaces accept (parameter_map_json).
+      space.degree = static_cast<int>(core::integer_field_or(item, "degree", path, 0, 16, 2));
       const int d = weight_space_dimensions(static_cast<int>(space.sequences.size()));
       if (!space.parameters.empty() && static_cast<int>(space.parameters.size()) != d)
         throw core::bad_input(path, "space '" + space.name + "': " + std::to_string(space.sequences.size()) +
@@ -73,7 +80,7 @@ GraphConfig read_graph_config(const std::filesystem::path& path) {
     for (const auto& item : json.value("transitions", core::Json::array()))
       config.transitions.push_back({item.at("from").get<std::string>(), item.at("to").get<std::string>()});
   } catch (const core::Json::exception& error) {
-    throw core::bad_input(path, std::string("malformed graph config: ") + error.what());
+    throw core::bad_input(path, "malformed graph config: " + core::json_error_text(error));
   } catch (const core::Error& error) {
     if (error.code() == core::ExitCode::bad_arguments) throw core::bad_input(path, error.what());
     throw;

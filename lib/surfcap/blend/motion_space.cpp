@@ -7,6 +7,7 @@
 #include "surfcap/blend/time_warp.hpp"
 #include "surfcap/blend/warp_plot.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/logging.hpp"
 #include "surfcap/core/npy.hpp"
 #include "surfcap/core/parallel.hpp"
@@ -113,6 +114,17 @@ MotionSpace build_motion_space(const core::AlignedDatabase& database, const Nonl
   }
   const int T = config.frames > 0 ? config.frames : space.source_frame_counts.front();
   if (T < 2) throw core::bad_input(config.source, "space '" + config.name + "' needs at least 2 frames");
+  const long V = database.template_mesh.vertex_count();
+  // Warped frames, the source set's decomposition and the stored references: several copies of
+  // [N, T, V, 3] doubles.
+  core::check_memory(config.source, "space '" + config.name + "' (" + std::to_string(T) + " normalised frames of " +
+                                        std::to_string(ranges.size()) + " sequences, " + std::to_string(V) + " vertices)",
+                     4.0 * sizeof(double) * static_cast<double>(ranges.size()) * T * static_cast<double>(V) * 3);
+  for (const ParameterSpec& spec : config.parameters)
+    for (int v : spec.vertices)
+      if (v < 0 || v >= V)
+        throw core::bad_input(config.source, "space '" + config.name + "': parameter '" + spec.name + "' names vertex " +
+                                                 std::to_string(v) + ", the template has " + std::to_string(V));
   space.warps = time_warps(ranges, T, options.threads);
   std::vector<std::vector<Eigen::MatrixXd>> warped(ranges.size());
   space.roots.resize(ranges.size());

@@ -5,6 +5,8 @@
 
 #include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
+#include "surfcap/core/json_integer.hpp"
 #include "surfcap/core/npy.hpp"
 
 namespace surfcap::blend {
@@ -35,15 +37,17 @@ ParameterMap parameter_map_from_json(const core::Json& json, const std::filesyst
 StoredSpace stored_space_from_entry(const core::Json& entry, const std::filesystem::path& output,
                                     const std::filesystem::path& file, long vertices) {
   StoredSpace space;
-  space.name = core::get_field<std::string>(entry, "name", file);
+  space.name = core::name_field(entry, "name", file);
   space.cyclic = entry.value("cyclic", false);
   space.frames = core::get_field<int>(entry, "frames", file);
   space.dimensions = core::get_field<int>(entry, "dimensions", file);
   if (space.dimensions < 1 || space.dimensions > 3 || space.frames < 2)
     throw core::bad_input(file, "space '" + space.name + "': needs 1–3 dimensions and at least 2 frames");
   for (const core::Json& source : core::get_field<core::Json>(entry, "sequences", file))
-    space.sources.push_back({core::get_field<std::string>(source, "name", file), source.value("first", 0),
-                             core::get_field<int>(source, "frames", file), source.value("duration_s", 0.0)});
+    space.sources.push_back({core::name_field(source, "name", file),
+                             static_cast<int>(core::integer_field_or(source, "first", file, 0, core::kMaxFrames, 0)),
+                             static_cast<int>(core::integer_field(source, "frames", file, 1, core::kMaxFrames)),
+                             core::number_field(source, "duration_s", file, 0, core::kMaxDurationS, 0.0)});
   for (const core::Json& parameter : entry.value("parameters", core::Json::array())) {
     space.parameter_names.push_back(core::get_field<std::string>(parameter, "name", file));
     space.parameter_measures.push_back(parameter.value("measure", std::string()));
@@ -56,9 +60,12 @@ StoredSpace stored_space_from_entry(const core::Json& entry, const std::filesyst
   space.max_error_mm = entry.value("max_error_mm", 0.0);
 
   const auto N = static_cast<long>(space.source_count()), T = static_cast<long>(space.frames);
-  const auto path = [&](const core::Json& object, const char* key) {
-    return output / core::get_field<std::string>(object, key, file);
-  };
+  if (space.frames > core::kMaxFrames) throw core::bad_input(file, "space '" + space.name + "': too many frames");
+  core::check_memory(file, "space '" + space.name + "' (" + std::to_string(N) + " sequences of " + std::to_string(T) +
+                               " frames)",
+                     4.0 * static_cast<double>(N) * static_cast<double>(T) * static_cast<double>(std::max(vertices, 1L)) * 3);
+  // Paths are relative to the output folder (where graph.json is), and must stay inside it.
+  const auto path = [&](const core::Json& object, const char* key) { return core::path_field(object, key, file, output); };
   space.references = copy_array<float>(core::read_npy(path(entry, "references"), core::DType::float32, {N, T, vertices > 0 ? vertices : -1, 3}));
   space.root_motion = copy_array<float>(core::read_npy(path(entry, "root_motion"), core::DType::float32, {N, T, 4}));
   space.time_warp = copy_array<float>(core::read_npy(path(entry, "time_warp"), core::DType::float32, {N, T}));

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 
 namespace surfcap::core {
 namespace {
@@ -144,6 +145,8 @@ void write_file_atomically(const std::filesystem::path& target, std::string_view
 }
 
 std::string read_file(const std::filesystem::path& path) {
+  // Never block on a FIFO nor read a device for ever; a file is held whole in memory.
+  check_memory(path, "reading the whole file", static_cast<double>(check_regular_file(path)));
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     const int error_number = errno;

@@ -6,7 +6,9 @@
 #include <set>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/json_document.hpp"
+#include "surfcap/core/json_integer.hpp"
 
 namespace surfcap::core {
 namespace {
@@ -38,24 +40,35 @@ std::vector<CaptureCamera> parse_cameras(const std::filesystem::path& file) {
   std::set<std::string> names;
   for (const auto& entry : get_field<Json>(document, "cameras", file)) {
     CaptureCamera camera;
-    camera.name = get_field<std::string>(entry, "name", file);
+    camera.name = name_field(entry, "name", file);  // it names image folders
     if (!names.insert(camera.name).second) throw bad_input(file, "camera '" + camera.name + "' appears twice");
     camera.width = get_field<int>(entry, "width", file);
     camera.height = get_field<int>(entry, "height", file);
-    if (camera.width <= 0 || camera.height <= 0) throw bad_input(file, "camera '" + camera.name + "': bad image size");
+    if (camera.width <= 0 || camera.height <= 0 || camera.width > kMaxImageSide || camera.height > kMaxImageSide)
+      throw bad_input(file, "camera '" + camera.name + "': bad image size " + std::to_string(camera.width) + "×" +
+                                std::to_string(camera.height) + " (1 to " + std::to_string(kMaxImageSide) + " pixels a side)");
     camera.K = read_matrix<3, 3>(entry, "K", file, camera.name);
     camera.R = read_matrix<3, 3>(entry, "R", file, camera.name);
     camera.t = read_matrix<3, 1>(entry, "t", file, camera.name);
     if (entry.contains("dist")) {
       auto dist = get_field<std::vector<double>>(entry, "dist", file);
       if (dist.size() > 5) throw bad_input(file, "camera '" + camera.name + "': \"dist\" has more than 5 values");
-      for (std::size_t i = 0; i < dist.size(); ++i) camera.distortion(static_cast<long>(i)) = dist[i];
+      for (std::size_t i = 0; i < dist.size(); ++i)
+        camera.distortion(static_cast<long>(i)) =
+            check_magnitude(file, "camera '" + camera.name + "': \"dist\"[" + std::to_string(i) + "]", dist[i], 1e3);
     }
     if ((camera.R * camera.R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||
         camera.R.determinant() < 0)
       throw bad_input(file, "camera '" + camera.name + "': R is not a rotation");
+    for (int k = 0; k < 3; ++k)
+      check_magnitude(file, "camera '" + camera.name + "': t[" + std::to_string(k) + "]", camera.t(k), kMaxCoordinate);
+    // K = [fx s cx; 0 fy cy; 0 0 1] with fx, fy > 0 is invertible; anything else is not a pinhole camera.
+    if (camera.K(1, 0) != 0 || camera.K(2, 0) != 0 || camera.K(2, 1) != 0 || camera.K(2, 2) != 1)
+      throw bad_input(file, "camera '" + camera.name + "': K must be upper triangular with K[2][2] = 1");
     if (camera.K(0, 0) <= 0 || camera.K(1, 1) <= 0)
       throw bad_input(file, "camera '" + camera.name + "': focal lengths must be positive");
+    if (camera.K.cwiseAbs().maxCoeff() > 1e7)
+      throw bad_input(file, "camera '" + camera.name + "': K has an entry beyond 1e7 pixels");
     cameras.push_back(camera);
   }
   if (cameras.empty()) throw bad_input(file, "no cameras");
@@ -66,7 +79,7 @@ std::vector<CaptureCamera> read_cameras_checked(const std::filesystem::path& fil
   try {
     return parse_cameras(file);
   } catch (const nlohmann::json::exception& e) {
-    throw bad_input(file, std::string("a field has the wrong type: ") + e.what());
+    throw bad_input(file, "a field has the wrong type: " + json_error_text(e));
   }
 }
 
@@ -121,7 +134,7 @@ Capture read_capture(const std::filesystem::path& path) {
   try {
     return read_capture_document(file);
   } catch (const nlohmann::json::exception& e) {
-    throw bad_input(file, std::string("a field has the wrong type: ") + e.what());
+    throw bad_input(file, "a field has the wrong type: " + json_error_text(e));
   }
 }
 
@@ -132,17 +145,19 @@ static Capture read_capture_document(const std::filesystem::path& file) {
   capture.name = document.value("name", capture.folder.filename().string());
   capture.units = document.value("units", std::string("m"));
   capture.up = document.value("up", std::string("y"));
-  capture.fps = document.value("fps", 25.0);
+  capture.fps = number_field(document, "fps", file, 0, kMaxFps, 25.0);
   if (capture.units != "m") throw bad_input(file, "units '" + capture.units + "' are not supported (metres: \"m\")");
   if (capture.up != "y") throw bad_input(file, "up axis '" + capture.up + "' is not supported (\"y\")");
   if (!(capture.fps > 0)) throw bad_input(file, "fps must be positive");
-  if (document.contains("cameras")) capture.cameras = read_cameras_checked(capture.folder / get_field<std::string>(document, "cameras", file));
+  if (document.contains("cameras")) capture.cameras = read_cameras_checked(path_field(document, "cameras", file));
+  for (const auto& camera : capture.cameras)  // an image is decoded whole, in several planes
+    check_memory(file, "an image of camera '" + camera.name + "' (" + std::to_string(camera.width) + "×" +
+                           std::to_string(camera.height) + ")",
+                 16.0 * camera.width * camera.height);
   std::set<std::string> names;
   for (const auto& entry : get_field<Json>(document, "sequences", file)) {
     CaptureSequence sequence;
-    sequence.name = get_field<std::string>(entry, "name", file);
-    if (sequence.name.empty() || sequence.name.find_first_of("/\\ ") != std::string::npos)
-      throw bad_input(file, "sequence name '" + sequence.name + "' must be non-empty without '/', '\\' or spaces");
+    sequence.name = name_field(entry, "name", file);
     if (!names.insert(sequence.name).second) throw bad_input(file, "sequence '" + sequence.name + "' appears twice");
     sequence.frames = get_field<std::string>(entry, "frames", file);
     if (sequence.frames.find("{frame") == std::string::npos)
@@ -150,9 +165,12 @@ static Capture read_capture_document(const std::filesystem::path& file) {
     sequence.images = entry.value("images", std::string());
     if (!sequence.images.empty() && capture.cameras.empty())
       throw bad_input(file, "sequence '" + sequence.name + "' has images but the capture has no cameras");
-    sequence.first = entry.value("first", 0);
-    sequence.count = get_field<int>(entry, "count", file);
-    if (sequence.count <= 0) throw bad_input(file, "sequence '" + sequence.name + "' has no frames");
+    // Frame numbers and camera names expand to one path component each, so one expansion shows
+    // where every file of the pattern is.
+    resolve_document_path(file, "frames", expand_pattern(sequence.frames, 0));
+    if (!sequence.images.empty()) resolve_document_path(file, "images", expand_pattern(sequence.images, 0, "camera"));
+    sequence.first = static_cast<int>(integer_field_or(entry, "first", file, 0, 1'000'000'000, 0));
+    sequence.count = static_cast<int>(integer_field(entry, "count", file, 1, kMaxFrames));
     capture.sequences.push_back(sequence);
   }
   if (capture.sequences.empty()) throw bad_input(file, "no sequences");
@@ -160,6 +178,8 @@ static Capture read_capture_document(const std::filesystem::path& file) {
 }
 
 std::pair<int, int> png_size(const std::filesystem::path& path, std::optional<long> frame) {
+  if (!std::filesystem::exists(path)) throw bad_input(path, "missing image", frame);
+  check_regular_file(path, frame);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw bad_input(path, "missing image", frame);
   unsigned char header[24] = {};
@@ -168,7 +188,9 @@ std::pair<int, int> png_size(const std::filesystem::path& path, std::optional<lo
   if (in.gcount() != 24 || !std::equal(signature, signature + 8, header) || std::string(header + 12, header + 16) != "IHDR")
     throw bad_input(path, "not a PNG image", frame);
   auto be32 = [&](int offset) {
-    return (header[offset] << 24) | (header[offset + 1] << 16) | (header[offset + 2] << 8) | header[offset + 3];
+    const std::uint32_t value = (std::uint32_t{header[offset]} << 24) | (std::uint32_t{header[offset + 1]} << 16) |
+                                (std::uint32_t{header[offset + 2]} << 8) | header[offset + 3];
+    return static_cast<int>(std::min<std::uint32_t>(value, 0x7fffffff));
   };
   return {be32(16), be32(20)};
 }
@@ -180,6 +202,7 @@ void check_capture_files(const Capture& capture) {
       const auto mesh = capture.mesh_path(static_cast<int>(s), frame);
       if (!std::filesystem::exists(mesh))
         throw bad_input(mesh, "missing frame of sequence '" + sequence.name + "'", frame);
+      check_regular_file(mesh, frame);
       if (sequence.images.empty()) continue;
       for (std::size_t c = 0; c < capture.cameras.size(); ++c) {
         const auto image = capture.image_path(static_cast<int>(s), frame, static_cast<int>(c));

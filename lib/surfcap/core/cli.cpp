@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/parallel.hpp"
 #include "surfcap/core/version.hpp"
 
@@ -85,9 +86,13 @@ std::string JsonConfig::to_config(const CLI::App* app, bool, bool, std::string) 
 std::vector<CLI::ConfigItem> JsonConfig::from_config(std::istream& input) const {
   std::stringstream buffer;
   buffer << input.rdbuf();
-  const Json document = Json::parse(buffer.str(), nullptr, false);
-  if (document.is_discarded() || !document.is_object())
-    throw bad_arguments("--config: the file is not a JSON object of option names to values");
+  Json document;
+  try {
+    document = parse_json_text(buffer.str(), "--config");
+  } catch (const Error& e) {
+    throw bad_arguments(std::string("--config: ") + e.what());
+  }
+  if (!document.is_object()) throw bad_arguments("--config: the file is not a JSON object of option names to values");
   std::vector<CLI::ConfigItem> items;
   std::vector<std::string> parents;
   flatten(document, parents, items);
@@ -106,13 +111,20 @@ ToolApp::ToolApp(std::string name, std::string description) : app_(std::move(des
       ->check(CLI::NonNegativeNumber);
   app_.add_option("--log-level", common_.log.level, "trace, debug, info, warn, error, critical or off");
   app_.add_flag("--log-json", common_.log.json, "Log one JSON object per line (for farms)");
+  static std::string max_memory = "0";
+  app_.add_option("--max-memory", max_memory,
+                  "Memory budget for what input files request, e.g. 8G (0: half of the physical memory); "
+                  "larger requests are bad input (exit 3)");
+  app_.add_flag("--allow-outside-paths", input_policy().allow_outside_paths,
+                "Let input documents name absolute paths and paths outside their folder (refused otherwise, exit 3)");
 }
 
 Json ToolApp::options_json() const { return app_options(&app_); }
 
 Json ToolApp::provenance_json() const {
   Json options = options_json();
-  for (const char* run_only : {"threads", "log-level", "log-json"}) options.erase(run_only);
+  for (const char* run_only : {"threads", "log-level", "log-json", "max-memory", "allow-outside-paths"})
+    options.erase(run_only);
   return options;
 }
 
@@ -132,6 +144,12 @@ int ToolApp::run(int argc, const char* const* argv, const std::function<void()>&
   }
   if (auto* option = app_.get_config_ptr(); option && option->count() > 0) common_.config = option->as<std::string>();
   try {
+    input_policy().max_memory_bytes = parse_memory_size(app_.get_option("--max-memory")->as<std::string>());
+  } catch (const Error& e) {
+    std::cerr << app_.get_name() << ": " << e.what() << "\n";
+    return e.exit_code();
+  }
+  try {
     configure_logging(common_.log);
     const int threads = resolve_threads(common_.threads);
     omp_set_num_threads(threads);
@@ -145,7 +163,7 @@ int ToolApp::run(int argc, const char* const* argv, const std::function<void()>&
     return e.exit_code();
   } catch (const nlohmann::json::exception& e) {
     // A JSON reader that did not check a field's type: still the input's fault.
-    spdlog::error("invalid JSON content: {}", e.what());
+    spdlog::error("invalid JSON content: {}", json_error_text(e));
     return static_cast<int>(ExitCode::bad_input);
   } catch (const std::bad_alloc&) {
     spdlog::error("out of memory");

@@ -1,9 +1,11 @@
 #include "surfcap/core/json_document.hpp"
 
+#include <algorithm>
 #include <regex>
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 
 namespace surfcap::core {
 
@@ -11,22 +13,62 @@ std::string format_tag(std::string_view kind, int version) {
   return "surfcap." + std::string(kind) + "/" + std::to_string(version);
 }
 
-Json read_json_file(const std::filesystem::path& path) {
-  const std::string text = read_file(path);
+std::string json_error_text(const nlohmann::json::exception& error) {
+  const std::string text = error.what();
+  const std::size_t end = text.rfind("] ", 60);
+  return text.rfind("[json.exception.", 0) == 0 && end != std::string::npos ? text.substr(end + 2) : text;
+}
+
+namespace {
+
+/// "line L, column C" of a byte offset, for a person.
+std::string line_and_column(std::string_view text, std::size_t offset) {
+  offset = std::min(offset, text.size());
+  const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(offset), '\n');
+  const std::size_t last_newline = text.rfind('\n', offset == 0 ? 0 : offset - 1);
+  const std::size_t column = last_newline == std::string_view::npos ? offset : offset - last_newline - 1;
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+/// Refuses arrays/objects nested deeper than kMaxJsonDepth before the parser (or anything
+/// recursive over the parsed value: copies, dumps, destructors) sees them.
+void check_nesting_depth(std::string_view text, const std::filesystem::path& source) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth)
+        throw bad_input(source, "invalid JSON at " + line_and_column(text, i) + ": nested deeper than " +
+                                    std::to_string(kMaxJsonDepth) + " levels");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+}  // namespace
+
+Json parse_json_text(std::string_view text, const std::filesystem::path& source) {
+  check_nesting_depth(text, source);
   try {
     return Json::parse(text);
   } catch (const nlohmann::json::out_of_range& e) {  // e.g. a number too large for a double
-    throw bad_input(path, std::string("invalid JSON: ") + e.what());
+    throw bad_input(source, "invalid JSON: " + json_error_text(e));
   } catch (const nlohmann::json::parse_error& e) {
-    // Turn the byte offset into line:column for a person.
-    const std::size_t offset = std::min<std::size_t>(e.byte, text.size());
-    const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(offset), '\n');
-    const std::size_t last_newline = text.rfind('\n', offset == 0 ? 0 : offset - 1);
-    const std::size_t column = last_newline == std::string::npos ? offset : offset - last_newline - 1;
-    throw bad_input(path, "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
-                              ": " + e.what());
+    throw bad_input(source, "invalid JSON at " + line_and_column(text, e.byte) + ": " + json_error_text(e));
+  } catch (const nlohmann::json::exception& e) {
+    throw bad_input(source, "invalid JSON: " + json_error_text(e));
   }
 }
+
+Json read_json_file(const std::filesystem::path& path) { return parse_json_text(read_file(path), path); }
 
 Json read_json_document(const std::filesystem::path& path, std::string_view kind, int max_version) {
   Json document = read_json_file(path);

@@ -7,6 +7,9 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <optional>
 #include <cctype>
 #include <fstream>
 #include <mutex>
@@ -15,6 +18,7 @@
 
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/mesh_precheck.hpp"
 #include "surfcap/core/textured_obj.hpp"
 
@@ -136,12 +140,148 @@ std::string find_non_finite_token(const std::filesystem::path& path) {
   return {};
 }
 
+/// OpenMesh reads PLY face lists only with a uchar count ("Unsupported Index type" otherwise), so a
+/// legal PLY whose lists count with ushort, uint... is rewritten in memory with uchar counts; a
+/// polygon of more than 255 vertices becomes a fan of triangles from its first vertex, as the
+/// importer triangulates it anyway. Returns the rewritten file and its face count; nothing when
+/// OpenMesh reads the file as it is. The file has passed precheck_mesh_file.
+std::optional<std::pair<std::string, long>> ply_with_byte_counts(const std::string& content) {
+  struct Property {
+    bool list = false;
+    int size = 0, count_size = 0;  // bytes of the value (list: of an item) and of a list's count
+  };
+  struct Element {
+    std::string header;  // the "element" line's name
+    long count = 0;
+    std::vector<Property> properties;
+    std::vector<std::string> lines;  // its property lines
+  };
+  const std::size_t end = content.find("end_header");
+  const std::size_t body = content.find('\n', end) + 1;
+  std::istringstream header(content.substr(0, end));
+  std::string line, format;
+  std::vector<Element> elements;
+  std::vector<std::string> preamble;  // "ply", format, comments before the first element
+  bool rewrite = false;
+  auto size_of = [](const std::string& type) {
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "double" || type == "float64") return 8;
+    return 4;
+  };
+  while (std::getline(header, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::vector<std::string> t;
+    for (std::string word; words >> word;) t.push_back(word);
+    if (t.empty()) continue;
+    if (t[0] == "format") format = t.size() > 1 ? t[1] : "";
+    if (t[0] == "element" && t.size() == 3) {
+      elements.push_back({t[1], std::stol(t[2]), {}, {}});
+    } else if (t[0] == "property" && !elements.empty()) {
+      Property property;
+      if (t.size() == 5 && t[1] == "list") {
+        property = {true, size_of(t[3]), size_of(t[2])};
+        if (property.count_size != 1) {
+          rewrite = true;
+          line = "property list uchar " + t[3] + " " + t[4];
+        }
+      } else if (t.size() >= 3) {
+        property.size = size_of(t[1]);
+      }
+      elements.back().properties.push_back(property);
+      elements.back().lines.push_back(line);
+    } else if (elements.empty()) {
+      preamble.push_back(line);
+    } else {
+      elements.back().lines.push_back(line);  // a comment between properties
+    }
+  }
+  if (!rewrite) return std::nullopt;
+  const bool ascii = format == "ascii";
+  const bool swap = (format == "binary_big_endian") != (std::endian::native == std::endian::big);
+  auto read_count = [&](std::size_t offset, int size) -> std::uint64_t {
+    std::uint64_t value = 0;
+    for (int k = 0; k < size; ++k) {
+      const auto byte = static_cast<std::uint64_t>(static_cast<unsigned char>(content[offset + static_cast<std::size_t>(k)]));
+      value |= byte << (8 * (swap ? size - 1 - k : k));
+    }
+    return value;
+  };
+  std::string out_body;
+  std::istringstream text(content.substr(body));
+  std::size_t position = body;
+  long faces = -1;
+  std::vector<long> counts;
+  for (const Element& element : elements) {
+    long written = 0;
+    for (long record = 0; record < element.count; ++record) {
+      // Each property of the record as raw bytes (binary) or tokens (ASCII); lists as their items.
+      std::vector<std::vector<std::string>> values;
+      std::vector<std::string> tokens;
+      if (ascii) {
+        do std::getline(text, line);
+        while (line.find_first_not_of(" \t\r") == std::string::npos && text);
+        std::istringstream words(line);
+        for (std::string word; words >> word;) tokens.push_back(word);
+      }
+      std::size_t next = 0;
+      std::size_t longest = 0, list_index = 0;
+      for (std::size_t p = 0; p < element.properties.size(); ++p) {
+        const Property& property = element.properties[p];
+        std::vector<std::string> items;
+        std::uint64_t n = 1;
+        if (property.list) {
+          n = ascii ? std::stoull(tokens.at(next++)) : read_count(position, property.count_size);
+          if (!ascii) position += static_cast<std::size_t>(property.count_size);
+          if (n >= longest) longest = n, list_index = p;
+        }
+        for (std::uint64_t k = 0; k < n; ++k) {
+          if (ascii) {
+            items.push_back(tokens.at(next++));
+          } else {
+            items.push_back(content.substr(position, static_cast<std::size_t>(property.size)));
+            position += static_cast<std::size_t>(property.size);
+          }
+        }
+        values.push_back(std::move(items));
+      }
+      // Records to write: the record itself, or a fan over its longest list.
+      const bool fan = longest > 255;
+      const std::size_t pieces = fan ? longest - 2 : 1;
+      for (std::size_t piece = 0; piece < pieces; ++piece) {
+        for (std::size_t p = 0; p < element.properties.size(); ++p) {
+          std::vector<std::string> items = values[p];
+          if (fan && p == list_index) items = {values[p][0], values[p][piece + 1], values[p][piece + 2]};
+          if (element.properties[p].list) {
+            if (ascii) out_body += std::to_string(items.size()) + " ";
+            else out_body.push_back(static_cast<char>(items.size()));
+          }
+          for (const auto& item : items) out_body += ascii ? item + " " : item;
+        }
+        if (ascii) out_body += "\n";
+        ++written;
+      }
+    }
+    counts.push_back(written);
+    if (element.header == "face") faces = written;
+  }
+  std::string result;
+  for (const auto& l : preamble) result += l + "\n";
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    result += "element " + elements[e].header + " " + std::to_string(counts[e]) + "\n";
+    for (const auto& l : elements[e].lines) result += l + "\n";
+  }
+  return std::make_pair(result + "end_header\n" + out_body, faces);
+}
+
 Mesh read_and_validate(const std::filesystem::path& path, const std::string& extension,
                        const MeshRequirements& requirements, std::optional<long> frame) {
   check_extension(path, extension);
+  check_regular_file(path, frame);  // before any open: a FIFO would block it
   {
     std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw io_error(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
+    if (!probe) throw io_error(path, "cannot open for reading");
   }
   const MeshFileCounts declared = precheck_mesh_file(path, extension, frame);
   if (extension == ".obj") {
@@ -159,23 +299,34 @@ Mesh read_and_validate(const std::filesystem::path& path, const std::string& ext
   RecordingImporter importer(om);
   OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor | OpenMesh::IO::Options::VertexTexCoord;
   bool ok = false;
+  long declared_faces = declared.faces;
   {
+    const auto rewritten = extension == ".ply" ? ply_with_byte_counts(read_file(path)) : std::nullopt;
     std::lock_guard lock(openmesh_mutex());
     silence_openmesh();
-    ok = OpenMesh::IO::IOManager().read(path.string(), importer, options);
+    if (rewritten) {
+      std::istringstream stream(rewritten->first);
+      declared_faces = rewritten->second;
+      ok = OpenMesh::IO::IOManager().read(stream, extension, importer, options);
+    } else {
+      ok = OpenMesh::IO::IOManager().read(path.string(), importer, options);
+    }
   }
   if (!ok) throw bad_input(path, "could not be parsed as " + extension.substr(1) + " (corrupt or truncated)", frame);
   if (declared.vertices >= 0 && importer.file_vertices != declared.vertices)
     throw bad_input(path, "truncated or corrupt: the header declares " + std::to_string(declared.vertices) +
                               " vertices, " + std::to_string(importer.file_vertices) + " were read", frame);
-  if (declared.faces >= 0 && importer.polygons != declared.faces)
-    throw bad_input(path, "truncated or corrupt: the header declares " + std::to_string(declared.faces) +
+  if (declared_faces >= 0 && importer.polygons != declared_faces)
+    throw bad_input(path, "truncated or corrupt: the header declares " + std::to_string(declared_faces) +
                               " faces, " + std::to_string(importer.polygons) + " were read", frame);
   if (importer.short_polygons > 0)
     throw bad_input(path, std::to_string(importer.short_polygons) + " faces have fewer than 3 vertices", frame);
 
   Mesh mesh = mesh_from_recording(om, importer, options.check(OpenMesh::IO::Options::VertexColor),
                                   options.check(OpenMesh::IO::Options::VertexTexCoord));
+  if (mesh.V.size() > 0 && mesh.V.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    throw bad_input(path, "vertex coordinates beyond the plausible magnitude (|x| ≤ " + std::to_string(long(kMaxCoordinate)) +
+                              " m)", frame);
   validate_mesh(mesh, requirements, path, frame);
   return mesh;
 }
@@ -186,7 +337,7 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshRequirements& requir
   try {
     return read_and_validate(path, lowercase_extension(path), requirements, frame);
   } catch (const Error& error) {
-    if (error.code() != ExitCode::bad_input) throw;
+    if (error.code() != ExitCode::bad_input || !std::filesystem::is_regular_file(path)) throw;
     if (const std::string token = find_non_finite_token(path); !token.empty())
       throw bad_input(path, "NaN/Inf vertex coordinates: " + token, frame);
     throw;

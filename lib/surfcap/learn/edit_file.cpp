@@ -4,8 +4,12 @@
 #include <set>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 
 namespace surfcap::learn {
+static std::vector<Constraint> edit_constraints_unchecked(const core::Json& edit, const PartSet& parts,
+                                                          const Eigen::MatrixXd& reference,
+                                                          const std::filesystem::path& source);
 
 std::vector<int> select_vertices(const core::Json& selector, const PartSet& parts, long vertex_count,
                                  const std::filesystem::path& source) {
@@ -17,13 +21,13 @@ std::vector<int> select_vertices(const core::Json& selector, const PartSet& part
       out.push_back(v.get<int>());
     }
   } else if (selector.contains("region")) {
-    const auto name = selector["region"].get<std::string>();
+    const auto name = core::get_field<std::string>(selector, "region", source);
     auto found = parts.regions.find(name);
     if (found == parts.regions.end()) throw core::bad_input(source, "unknown region '" + name + "'");
     out = found->second;
   } else if (selector.contains("part") || selector.contains("part_core")) {
     const bool core_only = selector.contains("part_core");
-    const auto name = selector[core_only ? "part_core" : "part"].get<std::string>();
+    const auto name = core::get_field<std::string>(selector, core_only ? "part_core" : "part", source);
     const int j = parts.find(name);
     if (j < 0) throw core::bad_input(source, "unknown part '" + name + "'");
     std::set<int> others;
@@ -41,18 +45,26 @@ std::vector<int> select_vertices(const core::Json& selector, const PartSet& part
 
 std::vector<Constraint> edit_constraints(const core::Json& edit, const PartSet& parts, const Eigen::MatrixXd& reference,
                                          const std::filesystem::path& source) {
+  return core::read_document_fields(source, [&] { return edit_constraints_unchecked(edit, parts, reference, source); });
+}
+
+std::vector<Constraint> edit_constraints_unchecked(const core::Json& edit, const PartSet& parts,
+                                                   const Eigen::MatrixXd& reference, const std::filesystem::path& source) {
   std::vector<Constraint> constraints;
   const long n = reference.rows();
   auto vector3 = [&](const core::Json& value, const std::string& what) {
-    if (!value.is_array() || value.size() != 3) throw core::bad_input(source, what + " must be [x, y, z]");
-    return Eigen::Vector3d(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+    if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() || !value[2].is_number())
+      throw core::bad_input(source, what + " must be [x, y, z] (numbers)");
+    Eigen::Vector3d vector;
+    for (int k = 0; k < 3; ++k) vector(k) = core::check_magnitude(source, what, value[k].get<double>(), core::kMaxCoordinate);
+    return vector;
   };
   for (const auto& anchor : edit.value("anchors", core::Json::array())) {
-    const double weight = anchor.value("weight", 1.0);
+    const double weight = core::number_field(anchor, "weight", source, 0, 1e9, 1.0);
     for (int v : select_vertices(anchor, parts, n, source)) constraints.push_back({v, reference.row(v).transpose(), weight});
   }
   for (const auto& handle : edit.value("handles", core::Json::array())) {
-    const double weight = handle.value("weight", 1.0);
+    const double weight = core::number_field(handle, "weight", source, 0, 1e9, 1.0);
     if (!(weight > 0)) throw core::bad_input(source, "handle weight must be > 0");
     const std::vector<int> vertices = select_vertices(handle, parts, n, source);
     if (handle.contains("positions")) {

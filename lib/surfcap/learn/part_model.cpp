@@ -5,6 +5,7 @@
 #include <atomic>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/npy.hpp"
 #include "surfcap/core/parallel.hpp"
@@ -156,22 +157,21 @@ void write_learnt_model(const fs::path& directory, const LearntModel& model, con
   core::write_json_file(directory / "parts.json", doc);
 }
 
-LearntModel read_learnt_model(const fs::path& parts_json) {
+static LearntModel read_learnt_model_fields(const fs::path& parts_json) {
   const core::Json doc = core::read_json_document(parts_json, "parts", 1);
-  const fs::path dir = parts_json.parent_path();
   LearntModel model;
-  model.template_mesh = core::read_mesh(dir / core::get_field<std::string>(doc, "template", parts_json));
+  model.template_mesh = core::read_mesh(core::path_field(doc, "template", parts_json));
   const long n = model.template_mesh.vertex_count();
   PartSet set;
   std::vector<std::string> parents;
   for (const auto& p : doc.at("parts")) {
     PartModel pm;
-    pm.part.name = core::get_field<std::string>(p, "name", parts_json);
-    pm.part.vertices = read_indices(dir / core::get_field<std::string>(p, "vertices", parts_json), n);
+    pm.part.name = core::name_field(p, "name", parts_json);
+    pm.part.vertices = read_indices(core::path_field(p, "vertices", parts_json), n);
     const long nj = static_cast<long>(pm.part.vertices.size());
-    const auto mean = core::read_npy_as_double(dir / core::get_field<std::string>(p, "mean", parts_json), {3 * nj});
+    const auto mean = core::read_npy_as_double(core::path_field(p, "mean", parts_json), {3 * nj});
     pm.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), 3 * nj);
-    pm.basis = core::read_npy_matrix(dir / core::get_field<std::string>(p, "basis", parts_json), 3 * nj, -1);
+    pm.basis = core::read_npy_matrix(core::path_field(p, "basis", parts_json), 3 * nj, -1);
     pm.energy = p.value("energy", 0.0);
     parents.push_back(p.contains("parent") && p["parent"].is_string() ? p["parent"].get<std::string>() : "");
     set.parts.push_back(pm.part);
@@ -192,12 +192,16 @@ LearntModel read_learnt_model(const fs::path& parts_json) {
   }
   if (doc.contains("regions"))
     for (const auto& r : doc["regions"])
-      model.regions[core::get_field<std::string>(r, "name", parts_json)] =
-          read_indices(dir / core::get_field<std::string>(r, "vertices", parts_json), n);
+      model.regions[core::name_field(r, "name", parts_json)] =
+          read_indices(core::path_field(r, "vertices", parts_json), n);
   if (doc.contains("examples"))
     for (const auto& e : doc["examples"])
       model.examples.emplace_back(e.value("sequence", std::string()), e.value("frame", 0));
   return model;
+}
+
+LearntModel read_learnt_model(const fs::path& parts_json) {
+  return core::read_document_fields(parts_json, [&] { return read_learnt_model_fields(parts_json); });
 }
 
 }  // namespace surfcap::learn

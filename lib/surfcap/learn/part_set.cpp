@@ -6,6 +6,8 @@
 #include <set>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
+#include "surfcap/core/json_integer.hpp"
 #include "surfcap/geometry/mesh_topology.hpp"
 
 namespace surfcap::learn {
@@ -188,7 +190,7 @@ PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, c
   int rest_index = -1;
   for (const auto& p : config["parts"]) {
     Part part;
-    part.name = core::get_field<std::string>(p, "name", source);
+    part.name = core::name_field(p, "name", source);  // it names the part's model files
     const std::string what = "part '" + part.name + "'";
     parent_names.push_back(p.value("parent", std::string()));
     std::vector<int> core_vertices;
@@ -204,14 +206,14 @@ PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, c
     }
     // Overlap into the neighbours: by geodesic distance (metres, survives remeshing) and/or rings.
     part.vertices = core_vertices;
-    const double overlap = p.value("overlap", 0.0);
+    const double overlap = core::number_field(p, "overlap", source, 0, core::kMaxCoordinate, 0.0);
     if (overlap > 0 && !core_vertices.empty()) {
       const auto d = geometry::edge_geodesic_distance(mesh.V, adjacency, core_vertices);
       part.vertices.clear();
       for (long v = 0; v < n; ++v)
         if (d[v] <= overlap) part.vertices.push_back(static_cast<int>(v));
     }
-    const int rings = p.value("overlap_rings", 0);
+    const int rings = static_cast<int>(core::integer_field_or(p, "overlap_rings", source, 0, 1000, 0));
     if (rings > 0) part.vertices = geometry::grow_region(adjacency, part.vertices, rings);
     cores.push_back(core_vertices);
     set.parts.push_back(std::move(part));
@@ -232,7 +234,7 @@ PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, c
   }
   if (config.contains("regions")) {
     for (const auto& [name, r] : config["regions"].items()) {
-      const std::string what = "region '" + name + "'";
+      const std::string what = "region '" + core::check_name(source, "regions", name) + "'";
       set.regions[name] = r.contains("vertices") ? vertex_list(r["vertices"], n, source, what) : core_region(r, what);
       if (set.regions[name].empty()) throw core::bad_input(source, what + " is empty");
     }
@@ -242,7 +244,8 @@ PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, c
 }
 
 PartSet read_part_config(const std::filesystem::path& path, const core::Mesh& mesh) {
-  return evaluate_part_config(core::read_json_document(path, "part_config", 1), mesh, path);
+  const core::Json config = core::read_json_document(path, "part_config", 1);
+  return core::read_document_fields(path, [&] { return evaluate_part_config(config, mesh, path); });
 }
 
 core::Json part_config_with_vertex_lists(const PartSet& set) {

@@ -7,6 +7,8 @@
 #include <map>
 #include <regex>
 
+#include "surfcap/core/input_policy.hpp"
+#include "surfcap/core/json_integer.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/mesh_repair.hpp"
@@ -166,14 +168,14 @@ HistogramSet read_histograms(const std::filesystem::path& database) {
   set.capture = document.value("capture", std::string());
   long total = 0;
   for (const auto& entry : core::get_field<core::Json>(document, "sequences", json_path)) {
-    FrameList::Sequence sequence{core::get_field<std::string>(entry, "name", json_path),
-                                 core::get_field<int>(entry, "first", json_path),
-                                 core::get_field<int>(entry, "count", json_path)};
+    FrameList::Sequence sequence{core::name_field(entry, "name", json_path),
+                                 static_cast<int>(core::integer_field(entry, "first", json_path, 0, 1'000'000'000)),
+                                 static_cast<int>(core::integer_field(entry, "count", json_path, 1, core::kMaxFrames))};
     if (sequence.count <= 0) throw core::bad_input(json_path, "sequence '" + sequence.name + "' has no frames");
     total += sequence.count;
     set.frames.sequences.push_back(sequence);
   }
-  const auto npy_path = database / "similarity" / core::get_field<std::string>(document, "histograms", json_path);
+  const auto npy_path = core::path_field(document, "histograms", json_path);
   const core::NpyArray array = core::read_npy(npy_path, core::DType::float32, {total, set.options.size()});
   set.histograms = Eigen::Map<const FloatRows>(array.data<float>(), total, set.options.size());
   if (document.contains("stance")) {

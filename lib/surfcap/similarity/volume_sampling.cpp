@@ -4,6 +4,9 @@
 #include <cmath>
 #include <vector>
 
+#include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
+
 namespace surfcap::similarity {
 namespace {
 
@@ -19,6 +22,13 @@ VolumeSampler::VolumeSampler(const core::Mesh& mesh, double spacing) : spacing_(
   const auto& V = mesh.V;
   const auto& F = mesh.F;
   const Eigen::RowVector3d low = V.colwise().minCoeff(), high = V.colwise().maxCoeff();
+  // The column grid is held whole: a mesh far larger than the spacing (corrupt coordinates) is
+  // bad input, refused before the grid is allocated or walked.
+  const double column_count = (std::floor((high(0) - low(0)) / spacing) + 2) * (std::floor((high(2) - low(2)) / spacing) + 2);
+  if (!(column_count <= static_cast<double>(core::memory_budget()) / (4 * sizeof(std::vector<Crossing>))))
+    throw core::Error(core::ExitCode::bad_input,
+                      "the mesh spans " + std::to_string(high(0) - low(0)) + " × " + std::to_string(high(2) - low(2)) +
+                          " m: too many sampling columns of " + std::to_string(spacing) + " m for the memory budget (--max-memory)");
   // Lattice indices of the first and last column/layer centre inside the bounding box.
   auto first_index = [&](double value) { return static_cast<long>(std::ceil(value / spacing - 0.5)); };
   auto last_index = [&](double value) { return static_cast<long>(std::floor(value / spacing - 0.5)); };
