@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The papers' claims on the synthetic tiny capture's ground truth:
 #  - tejera2013 leave-out: part-based reconstruction from head/hands/feet beats plain Laplacian
-#    and the global basis on average (issue 6);
+#    and the global basis on average;
 #  - casas2011 Table 1: the hybrid blend with one reference has at most a third of the linear
-#    blend's error against the exact non-linear blend (issue 7).
+#    blend's error against the exact non-linear blend.
 # Usage: bash synth_claims.sh <build_dir> <source_dir>
 set -euo pipefail
 build=$1

@@ -140,7 +140,7 @@ Region region_of(const Skeleton& sk, int bone, const Eigen::Vector3d& p, double 
 /// as first defined steps from 0 to 1 within ~2.5 cm, about one template edge at 3,000 vertices, so
 /// faces spanning the step (one corner on the skirt, another on a thigh) folded over their
 /// neighbours: 77 % of demo's folded face pairs had a weight range above 0.3 within the pair.
-/// Diffusing it (session 8) roughly halved the folds per frame; the large stretches were the
+/// Diffusing it roughly halves the folds per frame; the large stretches were the
 /// flare's doing (deformation.cpp, membrane_fraction).
 constexpr double kGarmentTransition = 0.05;
 
