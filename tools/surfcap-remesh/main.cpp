@@ -6,7 +6,6 @@
 
 #include <algorithm>
 
-#include "surfcap/align/remesh.hpp"
 #include "surfcap/align/tree_alignment.hpp"
 #include "surfcap/core/capture.hpp"
 #include "surfcap/core/cli.hpp"
@@ -16,7 +15,9 @@
 #include "surfcap/core/npy.hpp"
 #include "surfcap/core/parallel.hpp"
 #include "surfcap/core/progress.hpp"
+#include "surfcap/geometry/mean_edge_length.hpp"
 #include "surfcap/render/camera.hpp"
+#include "surfcap/synth/remesh.hpp"
 #include "surfcap/synth/scene.hpp"
 #include "surfcap/synth/studio.hpp"
 
@@ -72,7 +73,7 @@ void run(const Arguments& args, const core::ToolApp& app) {
     return V;
   };
   const std::filesystem::path out = args.out;
-  const double edge = align::mean_edge(source) * args.edge_scale;
+  const double edge = geometry::mean_edge_length(source.V, source.F) * args.edge_scale;
   core::ProgressReporter progress("remesh", static_cast<std::size_t>(count));
   std::vector<long> vertex_counts(static_cast<std::size_t>(count)), holes(static_cast<std::size_t>(count)),
       genus(static_cast<std::size_t>(count)), phantom(static_cast<std::size_t>(count));
@@ -110,11 +111,11 @@ void run(const Arguments& args, const core::ToolApp& app) {
       barycentric = std::move(result.barycentric);
       status = std::move(result.status);
     } else {
-      align::RemeshOptions options;
+      synth::RemeshOptions options;
       options.edge = edge;
       options.noise_sigma = args.noise_mm / 1000;
       options.seed = seed;
-      align::RemeshResult result = align::remesh(frame, options);
+      synth::RemeshResult result = synth::remesh(frame, options);
       mesh = std::move(result.mesh);
       face = std::move(result.face);
       barycentric = std::move(result.barycentric);

@@ -10,7 +10,7 @@
 
 #include "surfcap/core/mesh.hpp"
 
-namespace surfcap::align {
+namespace surfcap::synth {
 
 struct RemeshOptions {
   double edge = 0.02;            ///< target edge length (m)
@@ -31,7 +31,4 @@ struct RemeshResult {
 /// not manifold.
 RemeshResult remesh(const core::Mesh& source, const RemeshOptions& options);
 
-/// Mean edge length of a mesh (m).
-double mean_edge(const core::Mesh& mesh);
-
-}  // namespace surfcap::align
+}  // namespace surfcap::synth

@@ -1,4 +1,4 @@
-#include "surfcap/align/remesh.hpp"
+#include "surfcap/synth/remesh.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
@@ -8,9 +8,10 @@
 #include <random>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/geometry/mean_edge_length.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 
-namespace surfcap::align {
+namespace surfcap::synth {
 
 namespace {
 
@@ -28,13 +29,6 @@ double gaussian(std::mt19937_64& engine) {
 
 }  // namespace
 
-double mean_edge(const core::Mesh& mesh) {
-  double sum = 0;
-  for (long f = 0; f < mesh.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) sum += (mesh.V.row(mesh.F(f, k)) - mesh.V.row(mesh.F(f, (k + 1) % 3))).norm();
-  return mesh.F.rows() > 0 ? sum / (3.0 * static_cast<double>(mesh.F.rows())) : 0.0;
-}
-
 RemeshResult remesh(const core::Mesh& source, const RemeshOptions& options) {
   std::mt19937_64 engine(options.seed);
   const double edge = options.edge * (1.0 + options.edge_jitter * (2 * uniform(engine) - 1));
@@ -46,7 +40,7 @@ RemeshResult remesh(const core::Mesh& source, const RemeshOptions& options) {
     Eigen::Vector3d offset(gaussian(engine), gaussian(engine), gaussian(engine));
     const Eigen::Vector3d n = normals.row(v).transpose();
     offset -= n * n.dot(offset);
-    const Eigen::Vector3d p = source.V.row(v).transpose() + options.tangential_jitter * mean_edge(source) * 0.3 * offset;
+    const Eigen::Vector3d p = source.V.row(v).transpose() + options.tangential_jitter * geometry::mean_edge_length(source.V, source.F) * 0.3 * offset;
     vertices.push_back(mesh.add_vertex(Point(p.x(), p.y(), p.z())));
   }
   for (long f = 0; f < source.face_count(); ++f)
@@ -88,4 +82,4 @@ RemeshResult remesh(const core::Mesh& source, const RemeshOptions& options) {
   return result;
 }
 
-}  // namespace surfcap::align
+}  // namespace surfcap::synth
