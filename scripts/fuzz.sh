@@ -3,7 +3,8 @@
 # build-fuzz/ and runs each, one after the other, for a bounded time from the seed corpus in
 # tests/fuzz/corpus/<target>/.
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET...]
-# Environment: SURFCAP_FUZZ_RUNS=N also stops each target after N executions.
+# Environment: SURFCAP_FUZZ_RUNS=N also stops each target after N executions; SURFCAP_FUZZ_JOBS=N
+# runs N targets side by side.
 # Findings (crashing inputs) land in build-fuzz/findings/<target>/; the summary in
 # build-fuzz/fuzz-summary.txt lists executions and findings per target.
 set -euo pipefail
@@ -28,15 +29,13 @@ if [ ${#targets[@]} -eq 0 ]; then
 fi
 cmake --build build-fuzz -j "${SURFCAP_JOBS:-$(nproc)}" --target $(printf 'fuzz_%s ' "${targets[@]}")
 summary=build-fuzz/fuzz-summary.txt
-rm -rf build-fuzz/findings  # each run reports its own findings; fixed ones live on as seeds in tests/fuzz/corpus
-: > "$summary"
-status=0
-for target in "${targets[@]}"; do
-  work=build-fuzz/corpus/$target
-  findings=build-fuzz/findings/$target
+rm -rf build-fuzz/findings build-fuzz/status  # each run reports its own findings; fixed ones live on as seeds in tests/fuzz/corpus
+mkdir -p build-fuzz/status
+
+run_target() {
+  local target=$1 work=build-fuzz/corpus/$1 findings=build-fuzz/findings/$1 log=build-fuzz/$1.log rc runs found
   mkdir -p "$work" "$findings"
   cp -n tests/fuzz/corpus/"$target"/* "$work"/ 2>/dev/null || true
-  log=build-fuzz/$target.log
   set +e
   ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
     ./build-fuzz/tests/fuzz/fuzz_"$target" -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=65536 \
@@ -45,7 +44,21 @@ for target in "${targets[@]}"; do
   set -e
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   found=$(ls "$findings" | wc -l)
-  echo "$target: $runs executions (at most ${seconds} s), $found findings (exit $rc)" | tee -a "$summary"
-  [ "$rc" -eq 0 ] && [ "$found" -eq 0 ] || status=1
+  echo "$target: $runs executions (at most ${seconds} s), $found findings (exit $rc)" > build-fuzz/status/"$target"
+  [ "$rc" -eq 0 ] && [ "$found" -eq 0 ] || touch build-fuzz/status/"$target".failed
+}
+
+# SURFCAP_FUZZ_JOBS targets run side by side (default 1: one after the other).
+jobs=${SURFCAP_FUZZ_JOBS:-1}
+for target in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  run_target "$target" &
+done
+wait
+status=0
+: > "$summary"
+for target in "${targets[@]}"; do
+  tee -a "$summary" < build-fuzz/status/"$target"
+  [ ! -e build-fuzz/status/"$target".failed ] || status=1
 done
 exit $status

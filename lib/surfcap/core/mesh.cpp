@@ -136,8 +136,11 @@ MeshCheck validate_mesh(const Mesh& mesh, const MeshRequirements& requirements,
   if (check.boundary_edges > 0 && !requirements.allow_open)
     fail("the surface is open: " + std::to_string(check.boundary_edges) + " boundary edges");
   if (requirements.require_colors && !mesh.has_colors()) fail("the mesh has no per-vertex colours");
-  if (check.zero_area_faces + check.non_manifold_edges + check.boundary_edges + check.unreferenced_vertices > 0)
+  // An open surface is what a studio reconstruction cut at the floor is: data, not a defect.
+  if (check.zero_area_faces + check.non_manifold_edges + check.unreferenced_vertices > 0)
     spdlog::warn("{}: {}", where(source, frame), check.summary());
+  else if (check.boundary_edges > 0)
+    spdlog::debug("{}: {}", where(source, frame), check.summary());
   return check;
 }
 

@@ -33,15 +33,15 @@ struct Chart {
   int ox = 0, oy = 0;  ///< the chart's first texel in the atlas
 };
 
-}  // namespace
+struct Charts {
+  std::vector<Chart> charts;
+  std::vector<int> chart_of_face;
+};
 
-TexturedMesh bake_texture(const core::Mesh& mesh, const std::vector<render::Camera>& cameras,
-                          const std::vector<render::Image>& images, const std::vector<int>& best_camera, double scale) {
-  if (cameras.empty() || images.size() != cameras.size())
-    throw core::internal_error("bake_texture: one image per camera is needed");
-  const long n = mesh.vertex_count(), m = mesh.face_count();
+/// Faces linked through an edge that the same camera sees best form a chart.
+Charts build_charts(const core::Mesh& mesh, const std::vector<int>& best_camera) {
+  const long m = mesh.face_count();
   auto camera_of = [&](long f) { return std::max(0, best_camera[static_cast<std::size_t>(f)]); };
-  // Charts: faces linked through an edge that the same camera sees best.
   DisjointSets parent(static_cast<std::size_t>(m));
   std::map<std::pair<int, int>, int> edge_face;
   for (long f = 0; f < m; ++f)
@@ -53,18 +53,24 @@ TexturedMesh bake_texture(const core::Mesh& mesh, const std::vector<render::Came
       else if (camera_of(found->second) == camera_of(f))
         parent.unite(static_cast<int>(f), found->second);
     }
-  std::vector<Chart> charts;
-  std::vector<int> chart_of_root(static_cast<std::size_t>(m), -1), chart_of_face(static_cast<std::size_t>(m));
+  Charts result;
+  result.chart_of_face.resize(static_cast<std::size_t>(m));
+  std::vector<int> chart_of_root(static_cast<std::size_t>(m), -1);
   for (long f = 0; f < m; ++f) {
     int& chart = chart_of_root[static_cast<std::size_t>(parent.find(static_cast<int>(f)))];
     if (chart < 0) {
-      chart = static_cast<int>(charts.size());
-      charts.push_back({camera_of(f), {}, 0, 0, 0, 0, 0, 0});
+      chart = static_cast<int>(result.charts.size());
+      result.charts.push_back({camera_of(f), {}, 0, 0, 0, 0, 0, 0});
     }
-    charts[static_cast<std::size_t>(chart)].faces.push_back(static_cast<int>(f));
-    chart_of_face[static_cast<std::size_t>(f)] = chart;
+    result.charts[static_cast<std::size_t>(chart)].faces.push_back(static_cast<int>(f));
+    result.chart_of_face[static_cast<std::size_t>(f)] = chart;
   }
-  // Each chart's extent in its camera, one pixel of margin.
+  return result;
+}
+
+/// Each chart's extent in its camera, one pixel of margin, in texels.
+void measure_charts(const core::Mesh& mesh, const std::vector<render::Camera>& cameras, double scale,
+                    std::vector<Chart>& charts) {
   for (auto& chart : charts) {
     double x_min = 1e300, y_min = 1e300, x_max = -1e300, y_max = -1e300;
     for (const int f : chart.faces)
@@ -81,7 +87,10 @@ TexturedMesh bake_texture(const core::Mesh& mesh, const std::vector<render::Came
     if (chart.width > 16384 || chart.height > 16384)
       throw core::internal_error("bake_texture: a chart spans " + std::to_string(chart.width) + " texels");
   }
-  // Shelf packing, tallest first.
+}
+
+/// Shelf packing, tallest first; returns the atlas size.
+Eigen::Vector2i pack_charts(std::vector<Chart>& charts) {
   std::vector<int> order(charts.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
@@ -103,37 +112,79 @@ TexturedMesh bake_texture(const core::Mesh& mesh, const std::vector<render::Came
     x += chart.width + 1;
     shelf = std::max(shelf, chart.height + 1);
   }
+  return {width, std::max(1, y + shelf)};
+}
+
+/// The free texel of `chart` nearest to (tx, ty) (rings of growing radius, scanned in a fixed
+/// order), or (tx, ty) itself when the chart has none left.
+Eigen::Vector2i free_texel(const Chart& chart, int tx, int ty, const std::vector<int>& owner, int atlas_width) {
+  auto is_free = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < chart.width && y < chart.height &&
+           owner[static_cast<std::size_t>(chart.oy + y) * static_cast<std::size_t>(atlas_width) +
+                 static_cast<std::size_t>(chart.ox + x)] < 0;
+  };
+  for (int r = 1; r < std::max(chart.width, chart.height); ++r)
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx)
+        if (std::max(std::abs(dx), std::abs(dy)) == r && is_free(tx + dx, ty + dy)) return {tx + dx, ty + dy};
+  return {tx, ty};
+}
+
+/// Corner UVs at texel centres, one texel per (chart, vertex): the texel of the vertex's
+/// projection, or the nearest free one when another vertex of the chart rounds to it.
+std::vector<Eigen::Vector2i> assign_corner_texels(const core::Mesh& mesh, const std::vector<render::Camera>& cameras,
+                                                  const Charts& charts, double scale, const Eigen::Vector2i& atlas_size,
+                                                  Eigen::MatrixXi& FT) {
+  std::map<std::pair<int, int>, int> uv_index;
+  std::vector<Eigen::Vector2i> texels;
+  std::vector<int> owner(static_cast<std::size_t>(atlas_size.x()) * static_cast<std::size_t>(atlas_size.y()), -1);
+  FT.resize(mesh.face_count(), 3);
+  for (long f = 0; f < mesh.face_count(); ++f) {
+    const int c = charts.chart_of_face[static_cast<std::size_t>(f)];
+    const Chart& chart = charts.charts[static_cast<std::size_t>(c)];
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(f, k);
+      auto found = uv_index.find({c, v});
+      if (found == uv_index.end()) {
+        const Eigen::Vector2d p = cameras[static_cast<std::size_t>(chart.camera)].project(mesh.V.row(v).transpose());
+        Eigen::Vector2i t(std::clamp(static_cast<int>(std::lround((p.x() - chart.x0) * scale)), 0, chart.width - 1),
+                          std::clamp(static_cast<int>(std::lround((p.y() - chart.y0) * scale)), 0, chart.height - 1));
+        auto slot = [&](const Eigen::Vector2i& q) -> int& {
+          return owner[static_cast<std::size_t>(chart.oy + q.y()) * static_cast<std::size_t>(atlas_size.x()) +
+                       static_cast<std::size_t>(chart.ox + q.x())];
+        };
+        if (slot(t) >= 0) t = free_texel(chart, t.x(), t.y(), owner, atlas_size.x());
+        slot(t) = v;
+        texels.emplace_back(chart.ox + t.x(), chart.oy + t.y());
+        found = uv_index.emplace(std::make_pair(c, v), static_cast<int>(texels.size()) - 1).first;
+      }
+      FT(f, k) = found->second;
+    }
+  }
+  return texels;
+}
+
+}  // namespace
+
+TexturedMesh bake_texture(const core::Mesh& mesh, const std::vector<render::Camera>& cameras,
+                          const std::vector<render::Image>& images, const std::vector<int>& best_camera, double scale) {
+  if (cameras.empty() || images.size() != cameras.size())
+    throw core::internal_error("bake_texture: one image per camera is needed");
+  const long n = mesh.vertex_count(), m = mesh.face_count();
+  Charts charts = build_charts(mesh, best_camera);
+  measure_charts(mesh, cameras, scale, charts.charts);
+  const Eigen::Vector2i atlas_size = pack_charts(charts.charts);
   TexturedMesh result;
-  result.charts = static_cast<long>(charts.size());
-  result.atlas = render::Image(width, std::max(1, y + shelf), Eigen::Vector3d(0.5, 0.5, 0.5));
-  for (const auto& chart : charts) {
+  result.charts = static_cast<long>(charts.charts.size());
+  result.atlas = render::Image(atlas_size.x(), atlas_size.y(), Eigen::Vector3d(0.5, 0.5, 0.5));
+  for (const auto& chart : charts.charts) {
     const render::Image& image = images[static_cast<std::size_t>(chart.camera)];
     for (int ty = 0; ty < chart.height; ++ty)
       for (int tx = 0; tx < chart.width; ++tx)
         result.atlas.set(chart.ox + tx, chart.oy + ty, sample(image, chart.x0 + tx / scale, chart.y0 + ty / scale));
   }
-  // Corner UVs at texel centres, one per (chart, vertex).
-  std::map<std::pair<int, int>, int> uv_index;
-  std::vector<Eigen::Vector2i> texels;
-  result.FT.resize(m, 3);
-  for (long f = 0; f < m; ++f) {
-    const Chart& chart = charts[static_cast<std::size_t>(chart_of_face[static_cast<std::size_t>(f)])];
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.F(f, k);
-      const auto key = std::make_pair(chart_of_face[static_cast<std::size_t>(f)], v);
-      auto found = uv_index.find(key);
-      if (found == uv_index.end()) {
-        const Eigen::Vector2d p = cameras[static_cast<std::size_t>(chart.camera)].project(mesh.V.row(v).transpose());
-        const int tx = std::clamp(static_cast<int>(std::lround((p.x() - chart.x0) * scale)), 0, chart.width - 1);
-        const int ty = std::clamp(static_cast<int>(std::lround((p.y() - chart.y0) * scale)), 0, chart.height - 1);
-        texels.emplace_back(chart.ox + tx, chart.oy + ty);
-        found = uv_index.emplace(key, static_cast<int>(texels.size()) - 1).first;
-      }
-      result.FT(f, k) = found->second;
-    }
-  }
-  // A vertex's colour is the texel at its first corner; every corner's texel is
-  // set to it.
+  const std::vector<Eigen::Vector2i> texels = assign_corner_texels(mesh, cameras, charts, scale, atlas_size, result.FT);
+  // A vertex's colour is the texel at its first corner; every corner's texel is set to it.
   std::vector<int> first_texel(static_cast<std::size_t>(n), -1);
   for (long f = 0; f < m; ++f)
     for (int k = 0; k < 3; ++k)
