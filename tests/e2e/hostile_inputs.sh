@@ -330,6 +330,8 @@ fresh "graph config: spaces is an object"; json_set "$case/graph.json" 'd["space
 expect 3 "graph.json'" -- spaces; count 6
 fresh "capture: count as text"; json_set "$case/capture/capture.json" 'd["sequences"][0]["count"] = "24"'
 expect 3 "capture.json'" '"count"' -- histograms; count 6
+fresh "parts.json: an example at frame 1.5"; json_set "$case/model/parts.json" 'd["examples"][0]["frame"] = 1.5'
+expect 3 "parts.json'" '"frame"' -- edit; count 6
 
 echo "7. valid input that was refused"
 for ply in "binary_little_endian ushort int" "binary_little_endian uint int" "binary_big_endian ushort int" \
