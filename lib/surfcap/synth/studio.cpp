@@ -16,18 +16,15 @@
 namespace surfcap::synth {
 namespace {
 
-/// Keeps the faces marked in `keep`, then drops what would make the surface
-/// non-manifold at a vertex (all but the largest fan of faces around it),
-/// components of fewer than `min_faces` faces and unreferenced vertices;
-/// per-vertex ground truth follows its vertex.
-void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
-  const long n = r.mesh.vertex_count();
+/// Unmarks, at each vertex whose kept faces form several fans (faces linked through an edge at
+/// that vertex), all but the largest fan; repeated until nothing changes (at most 8 passes).
+void drop_extra_fans(const core::Mesh& mesh, std::vector<bool>& keep) {
+  const long n = mesh.vertex_count();
   for (int pass = 0; pass < 8; ++pass) {
-    // Fans around each vertex: faces linked through an edge at that vertex.
     std::vector<std::vector<int>> incident(static_cast<std::size_t>(n));
-    for (long f = 0; f < r.mesh.face_count(); ++f)
+    for (long f = 0; f < mesh.face_count(); ++f)
       if (keep[static_cast<std::size_t>(f)])
-        for (int k = 0; k < 3; ++k) incident[static_cast<std::size_t>(r.mesh.F(f, k))].push_back(static_cast<int>(f));
+        for (int k = 0; k < 3; ++k) incident[static_cast<std::size_t>(mesh.F(f, k))].push_back(static_cast<int>(f));
     bool changed = false;
     for (long v = 0; v < n; ++v) {
       const auto& faces = incident[static_cast<std::size_t>(v)];
@@ -37,7 +34,7 @@ void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
         for (std::size_t b = a + 1; b < faces.size(); ++b) {
           int shared = 0;
           for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) shared += r.mesh.F(faces[a], i) == r.mesh.F(faces[b], j);
+            for (int j = 0; j < 3; ++j) shared += mesh.F(faces[a], i) == mesh.F(faces[b], j);
           if (shared >= 2) fan.unite(static_cast<int>(a), static_cast<int>(b));
         }
       std::map<int, int> sizes;
@@ -52,19 +49,32 @@ void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
     }
     if (!changed) break;
   }
-  // Components (through shared vertices) of fewer than min_faces faces.
-  DisjointSets parent(static_cast<std::size_t>(n));
-  for (long f = 0; f < r.mesh.face_count(); ++f)
-    if (keep[static_cast<std::size_t>(f)])
-      for (int k = 1; k < 3; ++k) parent.unite(r.mesh.F(f, k), r.mesh.F(f, 0));
-  std::vector<long> component_faces(static_cast<std::size_t>(n), 0);
-  for (long f = 0; f < r.mesh.face_count(); ++f)
-    if (keep[static_cast<std::size_t>(f)]) ++component_faces[static_cast<std::size_t>(parent.find(r.mesh.F(f, 0)))];
-  for (long f = 0; f < r.mesh.face_count(); ++f)
-    if (keep[static_cast<std::size_t>(f)] &&
-        component_faces[static_cast<std::size_t>(parent.find(r.mesh.F(f, 0)))] < min_faces)
-      keep[static_cast<std::size_t>(f)] = false;
+}
 
+/// Unmarks the components (through shared vertices) of fewer than `min_faces` kept faces.
+void drop_small_components(const core::Mesh& mesh, std::vector<bool>& keep, long min_faces) {
+  const long n = mesh.vertex_count();
+  DisjointSets parent(static_cast<std::size_t>(n));
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (keep[static_cast<std::size_t>(f)])
+      for (int k = 1; k < 3; ++k) parent.unite(mesh.F(f, k), mesh.F(f, 0));
+  std::vector<long> component_faces(static_cast<std::size_t>(n), 0);
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (keep[static_cast<std::size_t>(f)]) ++component_faces[static_cast<std::size_t>(parent.find(mesh.F(f, 0)))];
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (keep[static_cast<std::size_t>(f)] &&
+        component_faces[static_cast<std::size_t>(parent.find(mesh.F(f, 0)))] < min_faces)
+      keep[static_cast<std::size_t>(f)] = false;
+}
+
+/// Keeps the faces marked in `keep`, then drops what would make the surface
+/// non-manifold at a vertex (all but the largest fan of faces around it),
+/// components of fewer than `min_faces` faces and unreferenced vertices;
+/// per-vertex ground truth follows its vertex.
+void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
+  const long n = r.mesh.vertex_count();
+  drop_extra_fans(r.mesh, keep);
+  drop_small_components(r.mesh, keep, min_faces);
   std::vector<int> new_index(static_cast<std::size_t>(n), -1);
   long faces = 0;
   for (long f = 0; f < r.mesh.face_count(); ++f)
