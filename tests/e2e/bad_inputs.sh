@@ -181,6 +181,11 @@ import json, sys
 d = json.load(open(sys.argv[1])); d["cameras"][1]["R"] = [2, 0, 0, 0, 1, 0, 0, 0, 1]; json.dump(d, open(sys.argv[1], "w"))
 PY
 expect 3 "cameras.json'" -- histograms
+fresh "camera width 640.5 (a float where an integer is expected)"
+json_set "$case/capture/cameras.json" 'd["cameras"][0]["width"] = d["cameras"][0]["width"] + 0.5'
+expect 3 "cameras.json'" '"width"' "an integer is expected" -- histograms
+fresh "capture.json: a fractional first frame"; json_set "$case/capture/capture.json" 'd["sequences"][0]["first"] = 1.5'
+expect 3 "capture.json'" '"first"' "must be an integer" -- histograms
 fresh "images declared, one missing"; read -r cam width height < <(add_images "$case/capture")
 rm "$case/capture/walk/images/$cam/000007.png"
 expect 3 "walk/images/$cam/000007.png' (frame 7)" -- histograms

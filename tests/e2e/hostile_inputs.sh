@@ -308,6 +308,8 @@ fresh "control waypoint at x = 1e300"; json_set "$case/control.json" 'd["waypoin
 expect 3 "control.json'" '"x"' -- play; count 5
 fresh "graph config tolerance -5 mm"; json_set "$case/graph.json" 'd["spaces"][1]["tolerance_mm"] = -5'
 expect 3 "graph.json'" '"tolerance_mm"' -- spaces; count 5
+fresh "parts.json: an example at frame 1.5"; json_set "$case/model/parts.json" 'd["examples"][0]["frame"] = 1.5'
+expect 3 "parts.json'" '"frame"' -- edit; count 5
 
 echo "6. bad input reported as an internal error or without its file"
 fresh "database: frames -1"; json_set "$(db)/database.json" 'd["sequences"][0]["frames"] = -1'

@@ -2,7 +2,6 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "surfcap/blend/graph_config.hpp"
 #include "surfcap/blend/motion_space.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
@@ -11,6 +10,8 @@
 #include "surfcap/core/progress.hpp"
 #include "surfcap/core/report.hpp"
 #include "surfcap/core/version.hpp"
+#include "surfcap/graph/graph_config.hpp"
+#include "surfcap/graph/graph_file.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -41,7 +42,7 @@ void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
   blend::MotionSpaceOptions options = arguments.options;
   options.threads = app.common().threads;
   options.validate();
-  const blend::GraphConfig config = blend::read_graph_config(arguments.graph);
+  const graph::GraphConfig config = graph::read_graph_config(arguments.graph);
   std::vector<const blend::SpaceConfig*> selected;
   if (arguments.spaces.empty()) {
     for (const auto& space : config.spaces) selected.push_back(&space);
@@ -93,7 +94,7 @@ void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
                  1000 * space.hybrid->checked_max_error());
   }
   const bool complete =
-      !arguments.no_graph && blend::write_graph(output, config, graph_provenance(arguments.database, arguments.graph));
+      !arguments.no_graph && graph::write_graph(output, config, graph_provenance(arguments.database, arguments.graph));
   report.figures()["graph_written"] = complete;
   if (!complete && !arguments.no_graph)
     spdlog::info("graph.json not written yet: other spaces of the config are still missing");
@@ -107,14 +108,14 @@ void run_spaces(core::ToolApp& app, const SpacesArguments& arguments) {
 }
 
 void run_graph(const GraphArguments& arguments) {
-  const blend::GraphConfig config = blend::read_graph_config(arguments.graph);
+  const graph::GraphConfig config = graph::read_graph_config(arguments.graph);
   const std::filesystem::path output(arguments.output);
   for (const blend::SpaceConfig& space : config.spaces) {
     const auto path = output / "spaces" / space.name / "space.json";
     if (!std::filesystem::exists(path))
       throw core::io_error(path, "missing: run `surfcap-precompute spaces --space " + space.name + "` first");
   }
-  blend::write_graph(output, config, graph_provenance(arguments.database, arguments.graph));
+  graph::write_graph(output, config, graph_provenance(arguments.database, arguments.graph));
   spdlog::info("{} spaces, {} transitions → {}", config.spaces.size(), config.transitions.size(),
                (output / "graph.json").string());
 }

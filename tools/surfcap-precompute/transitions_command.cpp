@@ -4,12 +4,12 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "surfcap/blend/graph_config.hpp"
 #include "surfcap/blend/stored_space.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/report.hpp"
 #include "surfcap/core/version.hpp"
+#include "surfcap/graph/graph_config.hpp"
 #include "surfcap/graph/transition_files.hpp"
 #include "surfcap/graph/transition_similarity.hpp"
 
@@ -28,13 +28,13 @@ struct TransitionsArguments {
 };
 
 /// The edges to compute: every transition of the config, or the --edge FROM:TO ones (declared).
-std::vector<blend::TransitionConfig> selected_edges(const blend::GraphConfig& config, const TransitionsArguments& arguments) {
+std::vector<graph::TransitionConfig> selected_edges(const graph::GraphConfig& config, const TransitionsArguments& arguments) {
   if (arguments.edges.empty()) return config.transitions;
-  std::vector<blend::TransitionConfig> edges;
+  std::vector<graph::TransitionConfig> edges;
   for (const std::string& edge : arguments.edges) {
     const auto colon = edge.find(':');
     if (colon == std::string::npos) throw core::bad_arguments("--edge " + edge + ": expected FROM:TO");
-    blend::TransitionConfig wanted{edge.substr(0, colon), edge.substr(colon + 1)};
+    graph::TransitionConfig wanted{edge.substr(0, colon), edge.substr(colon + 1)};
     const bool declared = std::any_of(config.transitions.begin(), config.transitions.end(), [&](const auto& t) {
       return t.from == wanted.from && t.to == wanted.to;
     });
@@ -48,8 +48,8 @@ void run_transitions(core::ToolApp& app, const TransitionsArguments& arguments) 
   graph::TransitionOptions options = arguments.options;
   options.threads = app.common().threads;
   options.validate();
-  const blend::GraphConfig config = blend::read_graph_config(arguments.graph);
-  const std::vector<blend::TransitionConfig> edges = selected_edges(config, arguments);
+  const graph::GraphConfig config = graph::read_graph_config(arguments.graph);
+  const std::vector<graph::TransitionConfig> edges = selected_edges(config, arguments);
   core::StageReport report("precompute.transitions");
   long vertices = 0;
   {
@@ -66,7 +66,7 @@ void run_transitions(core::ToolApp& app, const TransitionsArguments& arguments) 
   const core::Json provenance = {{"tool", "surfcap-precompute transitions"}, {"version", core::version()},
                                  {"database", arguments.database}, {"graph_config", arguments.graph},
                                  {"velocity_weight", options.velocity_weight}};
-  for (const blend::TransitionConfig& edge : edges) {
+  for (const graph::TransitionConfig& edge : edges) {
     const std::string stem = graph::transition_stem(edge.from, edge.to);
     auto timer = report.time("edge_" + stem);
     const blend::StoredSpace& from = space(edge.from);

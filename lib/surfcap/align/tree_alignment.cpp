@@ -10,6 +10,7 @@
 
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/json_document.hpp"
+#include "surfcap/core/json_integer.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/core/parallel.hpp"
@@ -251,11 +252,12 @@ AlignmentTree read_alignment_tree(const std::filesystem::path& database, long no
   const core::Json document = core::read_json_document(path, "tree", 1);
   AlignmentTree tree;
   try {
-    tree.root = document.at("root").at("node").get<long>();
+    tree.root = core::checked_integer(document.at("root").at("node"), "the root node", path);
     tree.nodes = document.at("nodes").get<std::vector<std::string>>();
     for (const auto& entry : document.at("edges"))
-      tree.edges.push_back({entry.at("parent").get<long>(), entry.at("child").get<long>(), entry.at("cost").get<double>(),
-                            entry.at("depth").get<int>()});
+      tree.edges.push_back({core::checked_integer(entry.at("parent"), "an edge's parent", path),
+                            core::checked_integer(entry.at("child"), "an edge's child", path), entry.at("cost").get<double>(),
+                            static_cast<int>(core::checked_integer(entry.at("depth"), "an edge's depth", path))});
   } catch (const core::Json::exception& error) {
     throw core::bad_input(path, std::string("malformed tree: ") + error.what());
   }

@@ -39,6 +39,257 @@ double linear_max_error(const SourceSet& sources, const std::vector<double>& u, 
   return *std::max_element(per_frame.begin(), per_frame.end());
 }
 
+/// The source ranges (the cycles to align) of a space, cut from the database sequences.
+struct SourceRanges {
+  std::vector<std::vector<Eigen::MatrixXd>> frames;
+  std::vector<std::vector<core::RootMotion>> roots;
+};
+
+/// Cuts each configured range out of its database sequence; fills the space's frame counts and
+/// durations.
+SourceRanges read_source_ranges(const core::AlignedDatabase& database, MotionSpace& space) {
+  const SpaceConfig& config = space.config;
+  SourceRanges ranges;
+  for (const SequenceRange& range : config.sequences) {
+    const int index = database.sequence_index(range.name);
+    if (index < 0) throw core::bad_input(config.source, "space '" + config.name + "': no sequence '" + range.name + "' in the database");
+    const core::AlignedSequence& sequence = database.sequences[index];
+    const int last = range.last < 0 ? sequence.frame_count() - 1 : range.last;
+    if (range.first < 0 || last >= sequence.frame_count() || last - range.first < 1)
+      throw core::bad_input(config.source, "space '" + config.name + "': bad frame range of '" + range.name + "'");
+    ranges.frames.emplace_back(sequence.frames.begin() + range.first, sequence.frames.begin() + last + 1);
+    ranges.roots.emplace_back(sequence.root_motion.begin() + range.first, sequence.root_motion.begin() + last + 1);
+    space.source_frame_counts.push_back(last - range.first + 1);
+    space.durations_s.push_back((last - range.first) / database.fps);
+  }
+  return ranges;
+}
+
+/// The memory a space of T normalised frames needs, and its parameters' vertex indices, against
+/// the template of V vertices.
+void check_space_request(const SpaceConfig& config, int T, std::size_t sources, long V) {
+  // Warped frames, the source set's decomposition and the stored references: several copies of
+  // [N, T, V, 3] doubles.
+  core::check_memory(config.source, "space '" + config.name + "' (" + std::to_string(T) + " normalised frames of " +
+                                        std::to_string(sources) + " sequences, " + std::to_string(V) + " vertices)",
+                     4.0 * sizeof(double) * static_cast<double>(sources) * T * static_cast<double>(V) * 3);
+  for (const ParameterSpec& spec : config.parameters)
+    for (int v : spec.vertices)
+      if (v < 0 || v >= V)
+        throw core::bad_input(config.source, "space '" + config.name + "': parameter '" + spec.name + "' names vertex " +
+                                                 std::to_string(v) + ", the template has " + std::to_string(V));
+}
+
+/// Time warps every source range to T normalised frames (space.warps, space.roots); returns the
+/// warped frames [N][T].
+std::vector<std::vector<Eigen::MatrixXd>> warp_sources(MotionSpace& space, const SourceRanges& ranges, int T,
+                                                       int threads) {
+  space.warps = time_warps(ranges.frames, T, threads);
+  std::vector<std::vector<Eigen::MatrixXd>> warped(ranges.frames.size());
+  space.roots.resize(ranges.frames.size());
+  for (std::size_t i = 0; i < ranges.frames.size(); ++i)
+    for (int k = 0; k < T; ++k) {
+      warped[i].push_back(sample_frame(ranges.frames[i], space.warps[i][k]));
+      space.roots[i].push_back(sample_root(ranges.roots[i], space.warps[i][k]));
+    }
+  return warped;
+}
+
+HybridOptions hybrid_options_for(const SpaceConfig& config, const MotionSpaceOptions& options) {
+  HybridOptions hybrid_options;
+  hybrid_options.tolerance_m = config.tolerance_mm / 1000.0;
+  hybrid_options.checks_per_interval = options.checks_per_interval;
+  hybrid_options.max_depth = options.max_depth;
+  hybrid_options.sparsity_fraction = options.sparsity_fraction;
+  hybrid_options.threads = options.threads;
+  return hybrid_options;
+}
+
+/// Sizes, memory and errors of the built hybrid blend into space.figures; the errors at random
+/// weights (fixed seed): the hybrid must stay within ε, linear for contrast.
+void record_hybrid_figures(MotionSpace& space, const core::Mesh& template_mesh, const MotionSpaceOptions& options) {
+  const SourceSet& sources = *space.sources;
+  const HybridBlend& hybrid = *space.hybrid;
+  const int d = sources.dimensions(), T = sources.frame_count();
+  std::mt19937 random(20110901);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  double hybrid_error = 0, linear_error = 0;
+  for (int s = 0; s < options.validation_samples; ++s) {
+    std::vector<double> u(static_cast<std::size_t>(d));
+    for (double& c : u) c = uniform(random);
+    hybrid_error = std::max(hybrid_error, hybrid.max_error(sources, u));
+    linear_error = std::max(linear_error, linear_max_error(sources, u, options.threads));
+  }
+  const double height = template_mesh.V.col(1).maxCoeff() - template_mesh.V.col(1).minCoeff();
+  core::Json& f = space.figures;
+  f["frames"] = T;
+  f["sources"] = sources.source_count();
+  f["vertices"] = sources.vertex_count();
+  f["model_height_m"] = height;
+  f["tolerance_mm"] = space.config.tolerance_mm;
+  f["references"] = hybrid.reference_count();
+  f["stored_vertices"] = hybrid.stored_vertices();
+  f["memory_bytes"] = hybrid.memory_bytes();
+  f["dense_float32_bytes"] = hybrid.reference_count() * T * sources.vertex_count() * 12;
+  f["checked_max_error_mm"] = 1000 * hybrid.checked_max_error();
+  f["validation"] = {{"samples", options.validation_samples}, {"hybrid_max_error_mm", 1000 * hybrid_error},
+                     {"linear_max_error_mm", 1000 * linear_error}};
+}
+
+/// Evaluation costs per frame of the hybrid, linear and exact blends (informative; benchmarks
+/// hold the targets).
+void time_evaluation(MotionSpace& space) {
+  const SourceSet& sources = *space.sources;
+  const int T = sources.frame_count();
+  core::Json& timings = space.figures["timings_s"];
+  const std::vector<double> u(static_cast<std::size_t>(sources.dimensions()), 0.37);
+  Eigen::MatrixXd mesh;
+  auto t0 = Clock::now();
+  for (int k = 0; k < T; ++k) space.hybrid->evaluate_into(sources, k, u, mesh);
+  timings["hybrid_per_frame"] = seconds_since(t0) / T;
+  t0 = Clock::now();
+  for (int k = 0; k < T; ++k) sources.linear_into(k, u, mesh);
+  timings["linear_per_frame"] = seconds_since(t0) / T;
+  t0 = Clock::now();
+  for (int k = 0; k < std::min(T, 5); ++k) mesh = sources.exact(k, u);
+  timings["exact_per_frame"] = seconds_since(t0) / std::min(T, 5);
+}
+
+/// Memory and error against ε (casas2013 Fig. 4): the hybrid rebuilt at each tolerance.
+core::Json tolerance_sweep(const SourceSet& sources, const HybridOptions& hybrid_options,
+                           const std::vector<double>& tolerances_mm) {
+  core::Json sweep = core::Json::array();
+  for (double tolerance_mm : tolerances_mm) {
+    HybridOptions sweep_options = hybrid_options;
+    sweep_options.tolerance_m = tolerance_mm / 1000.0;
+    const HybridBlend swept = HybridBlend::build(sources, sweep_options);
+    sweep.push_back({{"tolerance_mm", tolerance_mm}, {"references", swept.reference_count()},
+                     {"memory_bytes", swept.memory_bytes()}, {"checked_max_error_mm", 1000 * swept.checked_max_error()}});
+  }
+  return sweep;
+}
+
+/// The parameter map w = h⁻¹(p): the parameters measured on a grid of weights and fitted.
+void fit_space_parameter_map(MotionSpace& space, const MotionSpaceOptions& options) {
+  const auto start = Clock::now();
+  const int d = space.sources->dimensions();
+  const auto samples = weight_samples(d, options.sample_step);
+  Eigen::MatrixXd u(static_cast<long>(samples.size()), d), p(static_cast<long>(samples.size()), d);
+  std::vector<std::vector<double>> measured(samples.size());
+  core::parallel_for(static_cast<long>(samples.size()), options.threads,
+                     [&](long s) { measured[s] = measure_parameters(space, samples[s]); });
+  for (std::size_t s = 0; s < samples.size(); ++s)
+    for (int a = 0; a < d; ++a) {
+      u(static_cast<long>(s), a) = samples[s][a];
+      p(static_cast<long>(s), a) = measured[s][a];
+    }
+  std::vector<std::string> names;
+  for (const auto& spec : space.config.parameters) names.push_back(spec.name);
+  space.parameter_map = fit_parameter_map(u, p, space.config.degree, names);
+  space.figures["parameter_map"] = {{"samples", samples.size()}, {"residual_rms", space.parameter_map->residual_rms},
+                                    {"residual_max", space.parameter_map->residual_max}};
+  space.figures["timings_s"]["parameter_map"] = seconds_since(start);
+}
+
+/// references.npy [N, T, V, 3], root.npy [N, T, 4] and warp.npy [N, T], float32.
+void write_source_arrays(const std::filesystem::path& directory, const MotionSpace& space) {
+  const SourceSet& sources = *space.sources;
+  const auto N = static_cast<std::size_t>(sources.source_count()), T = static_cast<std::size_t>(sources.frame_count()),
+             V = static_cast<std::size_t>(sources.vertex_count());
+  std::vector<float> references(N * T * V * 3);
+  std::vector<float> roots(N * T * 4), warp(N * T);
+  for (std::size_t i = 0; i < N; ++i)
+    for (std::size_t t = 0; t < T; ++t) {
+      const Eigen::MatrixXd& frame = sources.frame(static_cast<int>(i), static_cast<int>(t));
+      float* out = references.data() + ((i * T + t) * V) * 3;
+      for (std::size_t v = 0; v < V; ++v)
+        for (int c = 0; c < 3; ++c) out[v * 3 + c] = static_cast<float>(frame(static_cast<long>(v), c));
+      const core::RootMotion& r = space.roots[i][t];
+      float* root = roots.data() + (i * T + t) * 4;
+      root[0] = static_cast<float>(r.x);
+      root[1] = static_cast<float>(r.y);
+      root[2] = static_cast<float>(r.z);
+      root[3] = static_cast<float>(r.heading);
+      warp[i * T + t] = static_cast<float>(space.warps[i][t]);
+    }
+  core::write_npy(directory / "references.npy", references.data(), {N, T, V, 3});
+  core::write_npy(directory / "root.npy", roots.data(), {N, T, 4});
+  core::write_npy(directory / "warp.npy", warp.data(), {N, T});
+}
+
+/// The sparse displacements D_NL of every node and frame as a CSR triple
+/// displacements.{offsets,vertices,values}.npy, values float16 when the blend is quantised.
+void write_displacements(const std::filesystem::path& directory, const HybridBlend& hybrid, int frames) {
+  const auto nodes = static_cast<std::size_t>(hybrid.node_count()), T = static_cast<std::size_t>(frames);
+  std::vector<std::int64_t> offsets{0};
+  std::vector<std::int32_t> vertices;
+  std::vector<std::uint16_t> values_half;
+  std::vector<float> values_float;
+  for (std::size_t node = 0; node < nodes; ++node)
+    for (std::size_t t = 0; t < T; ++t) {
+      const SparseDisplacement& field = hybrid.displacement(static_cast<long>(node), static_cast<int>(t));
+      vertices.insert(vertices.end(), field.vertices.begin(), field.vertices.end());
+      for (float value : field.values) {
+        if (hybrid.options().quantise) values_half.push_back(core::float_to_half(value));
+        else values_float.push_back(value);
+      }
+      offsets.push_back(static_cast<std::int64_t>(vertices.size()));
+    }
+  core::write_npy(directory / "displacements.offsets.npy", offsets.data(), {offsets.size()});
+  core::write_npy(directory / "displacements.vertices.npy", vertices.data(), {vertices.size()});
+  core::NpyArray values;
+  values.shape = {vertices.size(), 3};
+  if (hybrid.options().quantise) {
+    values.dtype = core::DType::float16;
+    const auto* bytes = reinterpret_cast<const std::byte*>(values_half.data());
+    values.bytes.assign(bytes, bytes + values_half.size() * 2);
+  } else {
+    values.dtype = core::DType::float32;
+    const auto* bytes = reinterpret_cast<const std::byte*>(values_float.data());
+    values.bytes.assign(bytes, bytes + values_float.size() * 4);
+  }
+  core::write_npy(directory / "displacements.values.npy", values);
+}
+
+/// The space's entry of space.json and graph.json (docs/blend.md); paths relative to the output.
+core::Json space_entry(const MotionSpace& space, const std::filesystem::path& relative) {
+  const HybridBlend& hybrid = *space.hybrid;
+  core::Json entry;
+  entry["name"] = space.config.name;
+  core::Json sequences = core::Json::array();
+  for (std::size_t i = 0; i < space.config.sequences.size(); ++i)
+    sequences.push_back({{"name", space.config.sequences[i].name}, {"first", space.config.sequences[i].first},
+                         {"frames", space.source_frame_counts[i]}, {"duration_s", space.durations_s[i]}});
+  entry["sequences"] = sequences;
+  core::Json parameters = core::Json::array();
+  for (const auto& spec : space.config.parameters)
+    parameters.push_back({{"name", spec.name}, {"measure", measure_name(spec.measure)}});
+  entry["parameters"] = parameters;
+  entry["cyclic"] = space.config.cyclic;
+  entry["frames"] = space.sources->frame_count();
+  entry["dimensions"] = space.sources->dimensions();
+  entry["breakpoints"] = hybrid.breakpoints();
+  core::Json weights = core::Json::array(), coordinates = core::Json::array();
+  for (long node = 0; node < hybrid.node_count(); ++node) {
+    coordinates.push_back(hybrid.node_coordinates(node));
+    weights.push_back(corner_weights(hybrid.node_coordinates(node)));
+  }
+  entry["weights"] = weights;
+  entry["coordinates"] = coordinates;
+  entry["references"] = (relative / "references.npy").generic_string();
+  entry["root_motion"] = (relative / "root.npy").generic_string();
+  entry["time_warp"] = (relative / "warp.npy").generic_string();
+  entry["time_warp_plot"] = (relative / "warp.png").generic_string();
+  entry["displacements"] = {{"offsets", (relative / "displacements.offsets.npy").generic_string()},
+                            {"vertices", (relative / "displacements.vertices.npy").generic_string()},
+                            {"values", (relative / "displacements.values.npy").generic_string()},
+                            {"threshold_m", hybrid.options().tolerance_m * hybrid.options().sparsity_fraction}};
+  entry["parameter_map"] = space.parameter_map ? space.parameter_map->to_json() : core::Json(nullptr);
+  entry["tolerance_mm"] = space.config.tolerance_mm;
+  entry["max_error_mm"] = 1000 * hybrid.checked_max_error();
+  return entry;
+}
+
 }  // namespace
 
 void MotionSpaceOptions::validate() const {
@@ -97,245 +348,39 @@ MotionSpace build_motion_space(const core::AlignedDatabase& database, const Nonl
   MotionSpace space;
   space.config = config;
   auto start = Clock::now();
-  // Source ranges (the cycles to align) from the database.
-  std::vector<std::vector<Eigen::MatrixXd>> ranges;
-  std::vector<std::vector<core::RootMotion>> range_roots;
-  for (const SequenceRange& range : config.sequences) {
-    const int index = database.sequence_index(range.name);
-    if (index < 0) throw core::bad_input(config.source, "space '" + config.name + "': no sequence '" + range.name + "' in the database");
-    const core::AlignedSequence& sequence = database.sequences[index];
-    const int last = range.last < 0 ? sequence.frame_count() - 1 : range.last;
-    if (range.first < 0 || last >= sequence.frame_count() || last - range.first < 1)
-      throw core::bad_input(config.source, "space '" + config.name + "': bad frame range of '" + range.name + "'");
-    ranges.emplace_back(sequence.frames.begin() + range.first, sequence.frames.begin() + last + 1);
-    range_roots.emplace_back(sequence.root_motion.begin() + range.first, sequence.root_motion.begin() + last + 1);
-    space.source_frame_counts.push_back(last - range.first + 1);
-    space.durations_s.push_back((last - range.first) / database.fps);
-  }
+  const SourceRanges ranges = read_source_ranges(database, space);
   const int T = config.frames > 0 ? config.frames : space.source_frame_counts.front();
   if (T < 2) throw core::bad_input(config.source, "space '" + config.name + "' needs at least 2 frames");
-  const long V = database.template_mesh.vertex_count();
-  // Warped frames, the source set's decomposition and the stored references: several copies of
-  // [N, T, V, 3] doubles.
-  core::check_memory(config.source, "space '" + config.name + "' (" + std::to_string(T) + " normalised frames of " +
-                                        std::to_string(ranges.size()) + " sequences, " + std::to_string(V) + " vertices)",
-                     4.0 * sizeof(double) * static_cast<double>(ranges.size()) * T * static_cast<double>(V) * 3);
-  for (const ParameterSpec& spec : config.parameters)
-    for (int v : spec.vertices)
-      if (v < 0 || v >= V)
-        throw core::bad_input(config.source, "space '" + config.name + "': parameter '" + spec.name + "' names vertex " +
-                                                 std::to_string(v) + ", the template has " + std::to_string(V));
-  space.warps = time_warps(ranges, T, options.threads);
-  std::vector<std::vector<Eigen::MatrixXd>> warped(ranges.size());
-  space.roots.resize(ranges.size());
-  for (std::size_t i = 0; i < ranges.size(); ++i)
-    for (int k = 0; k < T; ++k) {
-      warped[i].push_back(sample_frame(ranges[i], space.warps[i][k]));
-      space.roots[i].push_back(sample_root(range_roots[i], space.warps[i][k]));
-    }
+  check_space_request(config, T, ranges.frames.size(), database.template_mesh.vertex_count());
+  std::vector<std::vector<Eigen::MatrixXd>> warped = warp_sources(space, ranges, T, options.threads);
   space.figures["timings_s"]["time_warp"] = seconds_since(start);
 
   start = Clock::now();
   space.sources = std::make_unique<SourceSet>(blender, std::move(warped), options.threads);
   space.figures["timings_s"]["decompose"] = seconds_since(start);
 
-  HybridOptions hybrid_options;
-  hybrid_options.tolerance_m = config.tolerance_mm / 1000.0;
-  hybrid_options.checks_per_interval = options.checks_per_interval;
-  hybrid_options.max_depth = options.max_depth;
-  hybrid_options.sparsity_fraction = options.sparsity_fraction;
-  hybrid_options.threads = options.threads;
+  const HybridOptions hybrid_options = hybrid_options_for(config, options);
   start = Clock::now();
   space.hybrid = HybridBlend::build(*space.sources, hybrid_options, progress);
   space.figures["timings_s"]["bisection"] = seconds_since(start);
-  const SourceSet& sources = *space.sources;
-  const int d = sources.dimensions();
 
-  // Errors at random weights (fixed seed): the hybrid must stay within ε, linear for contrast.
-  std::mt19937 random(20110901);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  double hybrid_error = 0, linear_error = 0;
-  for (int s = 0; s < options.validation_samples; ++s) {
-    std::vector<double> u(static_cast<std::size_t>(d));
-    for (double& c : u) c = uniform(random);
-    hybrid_error = std::max(hybrid_error, space.hybrid->max_error(sources, u));
-    linear_error = std::max(linear_error, linear_max_error(sources, u, options.threads));
-  }
-  const double height = database.template_mesh.V.col(1).maxCoeff() - database.template_mesh.V.col(1).minCoeff();
-  core::Json& f = space.figures;
-  f["frames"] = T;
-  f["sources"] = sources.source_count();
-  f["vertices"] = sources.vertex_count();
-  f["model_height_m"] = height;
-  f["tolerance_mm"] = config.tolerance_mm;
-  f["references"] = space.hybrid->reference_count();
-  f["stored_vertices"] = space.hybrid->stored_vertices();
-  f["memory_bytes"] = space.hybrid->memory_bytes();
-  f["dense_float32_bytes"] = space.hybrid->reference_count() * T * sources.vertex_count() * 12;
-  f["checked_max_error_mm"] = 1000 * space.hybrid->checked_max_error();
-  f["validation"] = {{"samples", options.validation_samples}, {"hybrid_max_error_mm", 1000 * hybrid_error},
-                     {"linear_max_error_mm", 1000 * linear_error}};
-
-  // Evaluation costs (informative; benchmarks hold the targets).
-  {
-    const std::vector<double> u(static_cast<std::size_t>(d), 0.37);
-    Eigen::MatrixXd mesh;
-    auto t0 = Clock::now();
-    for (int k = 0; k < T; ++k) space.hybrid->evaluate_into(sources, k, u, mesh);
-    f["timings_s"]["hybrid_per_frame"] = seconds_since(t0) / T;
-    t0 = Clock::now();
-    for (int k = 0; k < T; ++k) sources.linear_into(k, u, mesh);
-    f["timings_s"]["linear_per_frame"] = seconds_since(t0) / T;
-    t0 = Clock::now();
-    for (int k = 0; k < std::min(T, 5); ++k) mesh = sources.exact(k, u);
-    f["timings_s"]["exact_per_frame"] = seconds_since(t0) / std::min(T, 5);
-  }
-
-  // Memory and error against ε (casas2013 Fig. 4).
-  core::Json sweep = core::Json::array();
-  for (double tolerance_mm : options.sweep_tolerances_mm) {
-    HybridOptions sweep_options = hybrid_options;
-    sweep_options.tolerance_m = tolerance_mm / 1000.0;
-    const HybridBlend swept = HybridBlend::build(sources, sweep_options);
-    sweep.push_back({{"tolerance_mm", tolerance_mm}, {"references", swept.reference_count()},
-                     {"memory_bytes", swept.memory_bytes()}, {"checked_max_error_mm", 1000 * swept.checked_max_error()}});
-  }
-  f["tolerance_sweep"] = sweep;
-
-  if (!config.parameters.empty()) {
-    start = Clock::now();
-    const auto samples = weight_samples(d, options.sample_step);
-    Eigen::MatrixXd u(static_cast<long>(samples.size()), d), p(static_cast<long>(samples.size()), d);
-    std::vector<std::vector<double>> measured(samples.size());
-    core::parallel_for(static_cast<long>(samples.size()), options.threads,
-                       [&](long s) { measured[s] = measure_parameters(space, samples[s]); });
-    for (std::size_t s = 0; s < samples.size(); ++s)
-      for (int a = 0; a < d; ++a) {
-        u(static_cast<long>(s), a) = samples[s][a];
-        p(static_cast<long>(s), a) = measured[s][a];
-      }
-    std::vector<std::string> names;
-    for (const auto& spec : config.parameters) names.push_back(spec.name);
-    space.parameter_map = fit_parameter_map(u, p, config.degree, names);
-    f["parameter_map"] = {{"samples", samples.size()}, {"residual_rms", space.parameter_map->residual_rms},
-                          {"residual_max", space.parameter_map->residual_max}};
-    f["timings_s"]["parameter_map"] = seconds_since(start);
-  }
+  record_hybrid_figures(space, database.template_mesh, options);
+  time_evaluation(space);
+  space.figures["tolerance_sweep"] = tolerance_sweep(*space.sources, hybrid_options, options.sweep_tolerances_mm);
+  if (!config.parameters.empty()) fit_space_parameter_map(space, options);
   return space;
 }
 
 void write_motion_space(const std::filesystem::path& output, const MotionSpace& space) {
-  const std::string name = space.config.name;
-  const std::filesystem::path relative = std::filesystem::path("spaces") / name;
+  const std::filesystem::path relative = std::filesystem::path("spaces") / space.config.name;
   const std::filesystem::path directory = output / relative;
-  const SourceSet& sources = *space.sources;
-  const auto N = static_cast<std::size_t>(sources.source_count()), T = static_cast<std::size_t>(sources.frame_count()),
-             V = static_cast<std::size_t>(sources.vertex_count());
-  std::vector<float> references(N * T * V * 3);
-  std::vector<float> roots(N * T * 4), warp(N * T);
-  for (std::size_t i = 0; i < N; ++i)
-    for (std::size_t t = 0; t < T; ++t) {
-      const Eigen::MatrixXd& frame = sources.frame(static_cast<int>(i), static_cast<int>(t));
-      float* out = references.data() + ((i * T + t) * V) * 3;
-      for (std::size_t v = 0; v < V; ++v)
-        for (int c = 0; c < 3; ++c) out[v * 3 + c] = static_cast<float>(frame(static_cast<long>(v), c));
-      const core::RootMotion& r = space.roots[i][t];
-      float* root = roots.data() + (i * T + t) * 4;
-      root[0] = static_cast<float>(r.x);
-      root[1] = static_cast<float>(r.y);
-      root[2] = static_cast<float>(r.z);
-      root[3] = static_cast<float>(r.heading);
-      warp[i * T + t] = static_cast<float>(space.warps[i][t]);
-    }
-  core::write_npy(directory / "references.npy", references.data(), {N, T, V, 3});
-  core::write_npy(directory / "root.npy", roots.data(), {N, T, 4});
-  core::write_npy(directory / "warp.npy", warp.data(), {N, T});
-
-  const HybridBlend& hybrid = *space.hybrid;
-  const auto nodes = static_cast<std::size_t>(hybrid.node_count());
-  std::vector<std::int64_t> offsets{0};
-  std::vector<std::int32_t> vertices;
-  std::vector<std::uint16_t> values_half;
-  std::vector<float> values_float;
-  for (std::size_t node = 0; node < nodes; ++node)
-    for (std::size_t t = 0; t < T; ++t) {
-      const SparseDisplacement& field = hybrid.displacement(static_cast<long>(node), static_cast<int>(t));
-      vertices.insert(vertices.end(), field.vertices.begin(), field.vertices.end());
-      for (float value : field.values) {
-        if (hybrid.options().quantise) values_half.push_back(core::float_to_half(value));
-        else values_float.push_back(value);
-      }
-      offsets.push_back(static_cast<std::int64_t>(vertices.size()));
-    }
-  core::write_npy(directory / "displacements.offsets.npy", offsets.data(), {offsets.size()});
-  core::write_npy(directory / "displacements.vertices.npy", vertices.data(), {vertices.size()});
-  core::NpyArray values;
-  values.shape = {vertices.size(), 3};
-  if (hybrid.options().quantise) {
-    values.dtype = core::DType::float16;
-    const auto* bytes = reinterpret_cast<const std::byte*>(values_half.data());
-    values.bytes.assign(bytes, bytes + values_half.size() * 2);
-  } else {
-    values.dtype = core::DType::float32;
-    const auto* bytes = reinterpret_cast<const std::byte*>(values_float.data());
-    values.bytes.assign(bytes, bytes + values_float.size() * 4);
-  }
-  core::write_npy(directory / "displacements.values.npy", values);
-
+  write_source_arrays(directory, space);
+  write_displacements(directory, *space.hybrid, space.sources->frame_count());
   std::vector<std::string> names;
   for (const auto& range : space.config.sequences) names.push_back(range.name);
   write_warp_plot(directory / "warp.png", space.warps, space.source_frame_counts, names);
-
-  core::Json entry;
-  entry["name"] = name;
-  core::Json sequences = core::Json::array();
-  for (std::size_t i = 0; i < N; ++i)
-    sequences.push_back({{"name", space.config.sequences[i].name}, {"first", space.config.sequences[i].first},
-                         {"frames", space.source_frame_counts[i]}, {"duration_s", space.durations_s[i]}});
-  entry["sequences"] = sequences;
-  core::Json parameters = core::Json::array();
-  for (const auto& spec : space.config.parameters)
-    parameters.push_back({{"name", spec.name}, {"measure", measure_name(spec.measure)}});
-  entry["parameters"] = parameters;
-  entry["cyclic"] = space.config.cyclic;
-  entry["frames"] = T;
-  entry["dimensions"] = sources.dimensions();
-  entry["breakpoints"] = hybrid.breakpoints();
-  core::Json weights = core::Json::array(), coordinates = core::Json::array();
-  for (long node = 0; node < hybrid.node_count(); ++node) {
-    coordinates.push_back(hybrid.node_coordinates(node));
-    weights.push_back(corner_weights(hybrid.node_coordinates(node)));
-  }
-  entry["weights"] = weights;
-  entry["coordinates"] = coordinates;
-  entry["references"] = (relative / "references.npy").generic_string();
-  entry["root_motion"] = (relative / "root.npy").generic_string();
-  entry["time_warp"] = (relative / "warp.npy").generic_string();
-  entry["time_warp_plot"] = (relative / "warp.png").generic_string();
-  entry["displacements"] = {{"offsets", (relative / "displacements.offsets.npy").generic_string()},
-                            {"vertices", (relative / "displacements.vertices.npy").generic_string()},
-                            {"values", (relative / "displacements.values.npy").generic_string()},
-                            {"threshold_m", hybrid.options().tolerance_m * hybrid.options().sparsity_fraction}};
-  entry["parameter_map"] = space.parameter_map ? space.parameter_map->to_json() : core::Json(nullptr);
-  entry["tolerance_mm"] = space.config.tolerance_mm;
-  entry["max_error_mm"] = 1000 * hybrid.checked_max_error();
-  core::Json document = {{"format", core::format_tag("space", 1)}, {"space", entry}};
+  core::Json document = {{"format", core::format_tag("space", 1)}, {"space", space_entry(space, relative)}};
   core::write_json_file(directory / "space.json", document);
-}
-
-bool write_graph(const std::filesystem::path& output, const GraphConfig& config, const core::Json& provenance) {
-  core::Json spaces = core::Json::array();
-  for (const SpaceConfig& space : config.spaces) {
-    const std::filesystem::path path = output / "spaces" / space.name / "space.json";
-    if (!std::filesystem::exists(path)) return false;
-    spaces.push_back(core::read_json_document(path, "space", 1).at("space"));
-  }
-  core::Json transitions = core::Json::array();
-  for (const auto& transition : config.transitions) transitions.push_back({{"from", transition.from}, {"to", transition.to}});
-  core::Json graph = {{"format", core::format_tag("graph", 1)}, {"spaces", spaces}, {"transitions", transitions},
-                      {"provenance", provenance}};
-  core::write_json_file(output / "graph.json", graph);
-  return true;
 }
 
 }  // namespace surfcap::blend

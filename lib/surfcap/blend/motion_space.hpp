@@ -7,9 +7,9 @@
 #include <optional>
 #include <vector>
 
-#include "surfcap/blend/graph_config.hpp"
 #include "surfcap/blend/hybrid_blend.hpp"
 #include "surfcap/blend/parameter_map.hpp"
+#include "surfcap/blend/space_config.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/json_document.hpp"
 #include "surfcap/core/progress.hpp"
@@ -51,9 +51,5 @@ std::vector<double> measure_parameters(const MotionSpace& space, const std::vect
 /// Writes <output>/spaces/<name>/{space.json, references.npy, root.npy, warp.npy, warp.png,
 /// displacements.*.npy} atomically, space.json last.
 void write_motion_space(const std::filesystem::path& output, const MotionSpace& space);
-
-/// Writes <output>/graph.json from every space's space.json when all spaces of `config` are
-/// present; returns false (and writes nothing) otherwise.
-bool write_graph(const std::filesystem::path& output, const GraphConfig& config, const core::Json& provenance);
 
 }  // namespace surfcap::blend

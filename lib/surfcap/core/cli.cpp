@@ -111,8 +111,7 @@ ToolApp::ToolApp(std::string name, std::string description) : app_(std::move(des
       ->check(CLI::NonNegativeNumber);
   app_.add_option("--log-level", common_.log.level, "trace, debug, info, warn, error, critical or off");
   app_.add_flag("--log-json", common_.log.json, "Log one JSON object per line (for farms)");
-  static std::string max_memory = "0";
-  app_.add_option("--max-memory", max_memory,
+  app_.add_option("--max-memory", common_.max_memory,
                   "Memory budget for what input files request, e.g. 8G (0: half of the physical memory); "
                   "larger requests are bad input (exit 3)");
   app_.add_flag("--allow-outside-paths", input_policy().allow_outside_paths,
@@ -144,7 +143,7 @@ int ToolApp::run(int argc, const char* const* argv, const std::function<void()>&
   }
   if (auto* option = app_.get_config_ptr(); option && option->count() > 0) common_.config = option->as<std::string>();
   try {
-    input_policy().max_memory_bytes = parse_memory_size(app_.get_option("--max-memory")->as<std::string>());
+    input_policy().max_memory_bytes = parse_memory_size(common_.max_memory);
   } catch (const Error& e) {
     std::cerr << app_.get_name() << ": " << e.what() << "\n";
     return e.exit_code();

@@ -15,6 +15,7 @@ struct CommonOptions {
   int threads = 0;  ///< 0: all hardware threads
   LogOptions log;
   std::string config;  ///< --config file the options were read from, if any
+  std::string max_memory = "0";  ///< --max-memory as given (bytes or K/M/G/T; 0: half of the physical memory)
 };
 
 /// Reads --config files: a JSON object whose keys are long option names (without "--"),

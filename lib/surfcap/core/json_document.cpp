@@ -100,4 +100,21 @@ void write_json_file(const std::filesystem::path& path, const Json& document) {
   write_file_atomically(path, document.dump(2) + "\n");
 }
 
+void check_integer_field(const Json& value, std::string_view key, const std::filesystem::path& file,
+                         std::int64_t min, std::uint64_t max) {
+  const std::string field = "field \"" + std::string(key) + "\"";
+  if (value.is_number_float() || value.is_boolean())
+    throw bad_input(file, field + " has the wrong type: an integer is expected, got " + value.dump());
+  bool in_range = true;
+  if (value.is_number_unsigned()) {
+    in_range = value.get<std::uint64_t>() <= max;
+  } else if (value.is_number_integer()) {
+    const std::int64_t v = value.get<std::int64_t>();
+    in_range = v >= min && (v < 0 || static_cast<std::uint64_t>(v) <= max);
+  }
+  if (!in_range)
+    throw bad_input(file, field + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
+                              "], got " + value.dump());
+}
+
 }  // namespace surfcap::core

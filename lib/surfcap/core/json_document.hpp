@@ -1,6 +1,7 @@
 #pragma once
 // surfcap metadata files: JSON objects carrying "format": "surfcap.<kind>/<version>".
 
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -26,9 +27,16 @@ Json read_json_file(const std::filesystem::path& path);
 /// sorted, so the bytes depend only on the content.
 void write_json_file(const std::filesystem::path& path, const Json& document);
 
-/// Typed field access with errors naming the file and the JSON pointer of the field.
+/// Typed field access with errors naming the file and the JSON pointer of the field. An integer
+/// T takes only a JSON integer within T's range: a float (2.5, and 2.0 too: JSON numbers with a
+/// fraction or exponent are floats) or a boolean is bad input, never truncated or converted.
 template <class T>
 T get_field(const Json& object, std::string_view key, const std::filesystem::path& file);
+
+/// For get_field of an integer type: bad_input naming `file` and `key` when `value` is a float, a
+/// boolean or an integer outside [min, max]. Other types are left to the JSON library's check.
+void check_integer_field(const Json& value, std::string_view key, const std::filesystem::path& file,
+                         std::int64_t min, std::uint64_t max);
 
 }  // namespace surfcap::core
 

@@ -140,137 +140,182 @@ std::string find_non_finite_token(const std::filesystem::path& path) {
   return {};
 }
 
+struct PlyProperty {
+  bool list = false;
+  int size = 0, count_size = 0;  // bytes of the value (list: of an item) and of a list's count
+};
+
+struct PlyElement {
+  std::string header;  // the "element" line's name
+  long count = 0;
+  std::vector<PlyProperty> properties;
+  std::vector<std::string> lines;  // its property lines
+};
+
+struct PlyHeader {
+  std::string format;
+  std::vector<PlyElement> elements;
+  std::vector<std::string> preamble;  // "ply", format, comments before the first element
+  bool rewrite = false;               // a list counts with more than one byte
+};
+
+int ply_type_size(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "double" || type == "float64") return 8;
+  return 4;
+}
+
+/// The header's elements and properties, the property lines of lists with wider counts already
+/// rewritten to uchar counts.
+PlyHeader parse_ply_header(const std::string& text) {
+  PlyHeader header;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::vector<std::string> t;
+    for (std::string word; words >> word;) t.push_back(word);
+    if (t.empty()) continue;
+    if (t[0] == "format") header.format = t.size() > 1 ? t[1] : "";
+    if (t[0] == "element" && t.size() == 3) {
+      header.elements.push_back({t[1], std::stol(t[2]), {}, {}});
+    } else if (t[0] == "property" && !header.elements.empty()) {
+      PlyProperty property;
+      if (t.size() == 5 && t[1] == "list") {
+        property = {true, ply_type_size(t[3]), ply_type_size(t[2])};
+        if (property.count_size != 1) {
+          header.rewrite = true;
+          line = "property list uchar " + t[3] + " " + t[4];
+        }
+      } else if (t.size() >= 3) {
+        property.size = ply_type_size(t[1]);
+      }
+      header.elements.back().properties.push_back(property);
+      header.elements.back().lines.push_back(line);
+    } else if (header.elements.empty()) {
+      header.preamble.push_back(line);
+    } else {
+      header.elements.back().lines.push_back(line);  // a comment between properties
+    }
+  }
+  return header;
+}
+
+/// One record of a PLY body: each property as raw bytes (binary) or tokens (ASCII), lists as
+/// their items; and which list is the longest.
+struct PlyRecord {
+  std::vector<std::vector<std::string>> values;
+  std::size_t longest = 0, list_index = 0;
+};
+
+/// Reads the records of a PLY body in order, ASCII or binary of either byte order.
+class PlyBodyReader {
+ public:
+  PlyBodyReader(const std::string& content, std::size_t body, const std::string& format)
+      : content_(content), text_(content.substr(body)), position_(body), ascii_(format == "ascii"),
+        swap_((format == "binary_big_endian") != (std::endian::native == std::endian::big)) {}
+
+  bool ascii() const { return ascii_; }
+
+  PlyRecord read(const PlyElement& element) {
+    PlyRecord record;
+    std::vector<std::string> tokens;
+    if (ascii_) {
+      // line_ persists: past the end, getline leaves it as it was.
+      do std::getline(text_, line_);
+      while (line_.find_first_not_of(" \t\r") == std::string::npos && text_);
+      std::istringstream words(line_);
+      for (std::string word; words >> word;) tokens.push_back(word);
+    }
+    std::size_t next = 0;
+    for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      const PlyProperty& property = element.properties[p];
+      std::vector<std::string> items;
+      std::uint64_t n = 1;
+      if (property.list) {
+        n = ascii_ ? std::stoull(tokens.at(next++)) : read_count(property.count_size);
+        if (!ascii_) position_ += static_cast<std::size_t>(property.count_size);
+        if (n >= record.longest) record.longest = n, record.list_index = p;
+      }
+      for (std::uint64_t k = 0; k < n; ++k) {
+        if (ascii_) {
+          items.push_back(tokens.at(next++));
+        } else {
+          items.push_back(content_.substr(position_, static_cast<std::size_t>(property.size)));
+          position_ += static_cast<std::size_t>(property.size);
+        }
+      }
+      record.values.push_back(std::move(items));
+    }
+    return record;
+  }
+
+ private:
+  std::uint64_t read_count(int size) const {
+    std::uint64_t value = 0;
+    for (int k = 0; k < size; ++k) {
+      const auto byte = static_cast<std::uint64_t>(static_cast<unsigned char>(content_[position_ + static_cast<std::size_t>(k)]));
+      value |= byte << (8 * (swap_ ? size - 1 - k : k));
+    }
+    return value;
+  }
+
+  const std::string& content_;
+  std::istringstream text_;
+  std::string line_;
+  std::size_t position_;
+  bool ascii_, swap_;
+};
+
+/// Appends `record` with uchar list counts to `out`: the record itself, or a fan of triangles over
+/// its longest list when that list has more than 255 items. Returns the records written.
+long write_byte_count_record(const PlyElement& element, const PlyRecord& record, bool ascii, std::string& out) {
+  const bool fan = record.longest > 255;
+  const std::size_t pieces = fan ? record.longest - 2 : 1;
+  for (std::size_t piece = 0; piece < pieces; ++piece) {
+    for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      std::vector<std::string> items = record.values[p];
+      if (fan && p == record.list_index)
+        items = {record.values[p][0], record.values[p][piece + 1], record.values[p][piece + 2]};
+      if (element.properties[p].list) {
+        if (ascii) out += std::to_string(items.size()) + " ";
+        else out.push_back(static_cast<char>(items.size()));
+      }
+      for (const auto& item : items) out += ascii ? item + " " : item;
+    }
+    if (ascii) out += "\n";
+  }
+  return static_cast<long>(pieces);
+}
+
 /// OpenMesh reads PLY face lists only with a uchar count ("Unsupported Index type" otherwise), so a
 /// legal PLY whose lists count with ushort, uint... is rewritten in memory with uchar counts; a
 /// polygon of more than 255 vertices becomes a fan of triangles from its first vertex, as the
 /// importer triangulates it anyway. Returns the rewritten file and its face count; nothing when
 /// OpenMesh reads the file as it is. The file has passed precheck_mesh_file.
 std::optional<std::pair<std::string, long>> ply_with_byte_counts(const std::string& content) {
-  struct Property {
-    bool list = false;
-    int size = 0, count_size = 0;  // bytes of the value (list: of an item) and of a list's count
-  };
-  struct Element {
-    std::string header;  // the "element" line's name
-    long count = 0;
-    std::vector<Property> properties;
-    std::vector<std::string> lines;  // its property lines
-  };
   const std::size_t end = content.find("end_header");
   const std::size_t body = content.find('\n', end) + 1;
-  std::istringstream header(content.substr(0, end));
-  std::string line, format;
-  std::vector<Element> elements;
-  std::vector<std::string> preamble;  // "ply", format, comments before the first element
-  bool rewrite = false;
-  auto size_of = [](const std::string& type) {
-    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-    if (type == "double" || type == "float64") return 8;
-    return 4;
-  };
-  while (std::getline(header, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::vector<std::string> t;
-    for (std::string word; words >> word;) t.push_back(word);
-    if (t.empty()) continue;
-    if (t[0] == "format") format = t.size() > 1 ? t[1] : "";
-    if (t[0] == "element" && t.size() == 3) {
-      elements.push_back({t[1], std::stol(t[2]), {}, {}});
-    } else if (t[0] == "property" && !elements.empty()) {
-      Property property;
-      if (t.size() == 5 && t[1] == "list") {
-        property = {true, size_of(t[3]), size_of(t[2])};
-        if (property.count_size != 1) {
-          rewrite = true;
-          line = "property list uchar " + t[3] + " " + t[4];
-        }
-      } else if (t.size() >= 3) {
-        property.size = size_of(t[1]);
-      }
-      elements.back().properties.push_back(property);
-      elements.back().lines.push_back(line);
-    } else if (elements.empty()) {
-      preamble.push_back(line);
-    } else {
-      elements.back().lines.push_back(line);  // a comment between properties
-    }
-  }
-  if (!rewrite) return std::nullopt;
-  const bool ascii = format == "ascii";
-  const bool swap = (format == "binary_big_endian") != (std::endian::native == std::endian::big);
-  auto read_count = [&](std::size_t offset, int size) -> std::uint64_t {
-    std::uint64_t value = 0;
-    for (int k = 0; k < size; ++k) {
-      const auto byte = static_cast<std::uint64_t>(static_cast<unsigned char>(content[offset + static_cast<std::size_t>(k)]));
-      value |= byte << (8 * (swap ? size - 1 - k : k));
-    }
-    return value;
-  };
+  const PlyHeader header = parse_ply_header(content.substr(0, end));
+  if (!header.rewrite) return std::nullopt;
+  PlyBodyReader reader(content, body, header.format);
   std::string out_body;
-  std::istringstream text(content.substr(body));
-  std::size_t position = body;
   long faces = -1;
   std::vector<long> counts;
-  for (const Element& element : elements) {
+  for (const PlyElement& element : header.elements) {
     long written = 0;
-    for (long record = 0; record < element.count; ++record) {
-      // Each property of the record as raw bytes (binary) or tokens (ASCII); lists as their items.
-      std::vector<std::vector<std::string>> values;
-      std::vector<std::string> tokens;
-      if (ascii) {
-        do std::getline(text, line);
-        while (line.find_first_not_of(" \t\r") == std::string::npos && text);
-        std::istringstream words(line);
-        for (std::string word; words >> word;) tokens.push_back(word);
-      }
-      std::size_t next = 0;
-      std::size_t longest = 0, list_index = 0;
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
-        const Property& property = element.properties[p];
-        std::vector<std::string> items;
-        std::uint64_t n = 1;
-        if (property.list) {
-          n = ascii ? std::stoull(tokens.at(next++)) : read_count(position, property.count_size);
-          if (!ascii) position += static_cast<std::size_t>(property.count_size);
-          if (n >= longest) longest = n, list_index = p;
-        }
-        for (std::uint64_t k = 0; k < n; ++k) {
-          if (ascii) {
-            items.push_back(tokens.at(next++));
-          } else {
-            items.push_back(content.substr(position, static_cast<std::size_t>(property.size)));
-            position += static_cast<std::size_t>(property.size);
-          }
-        }
-        values.push_back(std::move(items));
-      }
-      // Records to write: the record itself, or a fan over its longest list.
-      const bool fan = longest > 255;
-      const std::size_t pieces = fan ? longest - 2 : 1;
-      for (std::size_t piece = 0; piece < pieces; ++piece) {
-        for (std::size_t p = 0; p < element.properties.size(); ++p) {
-          std::vector<std::string> items = values[p];
-          if (fan && p == list_index) items = {values[p][0], values[p][piece + 1], values[p][piece + 2]};
-          if (element.properties[p].list) {
-            if (ascii) out_body += std::to_string(items.size()) + " ";
-            else out_body.push_back(static_cast<char>(items.size()));
-          }
-          for (const auto& item : items) out_body += ascii ? item + " " : item;
-        }
-        if (ascii) out_body += "\n";
-        ++written;
-      }
-    }
+    for (long record = 0; record < element.count; ++record)
+      written += write_byte_count_record(element, reader.read(element), reader.ascii(), out_body);
     counts.push_back(written);
     if (element.header == "face") faces = written;
   }
   std::string result;
-  for (const auto& l : preamble) result += l + "\n";
-  for (std::size_t e = 0; e < elements.size(); ++e) {
-    result += "element " + elements[e].header + " " + std::to_string(counts[e]) + "\n";
-    for (const auto& l : elements[e].lines) result += l + "\n";
+  for (const auto& l : header.preamble) result += l + "\n";
+  for (std::size_t e = 0; e < header.elements.size(); ++e) {
+    result += "element " + header.elements[e].header + " " + std::to_string(counts[e]) + "\n";
+    for (const auto& l : header.elements[e].lines) result += l + "\n";
   }
   return std::make_pair(result + "end_header\n" + out_body, faces);
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 #include <atomic>
+#include <limits>
 
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/input_policy.hpp"
@@ -196,7 +197,9 @@ static LearntModel read_learnt_model_fields(const fs::path& parts_json) {
           read_indices(core::path_field(r, "vertices", parts_json), n);
   if (doc.contains("examples"))
     for (const auto& e : doc["examples"])
-      model.examples.emplace_back(e.value("sequence", std::string()), e.value("frame", 0));
+      model.examples.emplace_back(e.value("sequence", std::string()),
+                                  static_cast<int>(core::integer_field_or(e, "frame", parts_json, std::numeric_limits<int>::min(),
+                                                                          std::numeric_limits<int>::max(), 0)));
   return model;
 }
 

@@ -160,30 +160,87 @@ Extremities find_extremities(const core::Mesh& mesh) {
   return result;
 }
 
+namespace {
+
+/// The vertex sets a part config names on the template: extremity regions (geodesic balls around
+/// the extremities) and the overlap of a part into its neighbours.
+class PartRegions {
+ public:
+  PartRegions(const core::Json& config, const core::Mesh& mesh, const std::filesystem::path& source)
+      : mesh_(mesh), source_(source), adjacency_(geometry::vertex_adjacency(mesh.F, mesh.vertex_count())) {
+    bool needs_extremities = false;
+    for (const auto& p : config["parts"]) needs_extremities |= p.contains("extremity");
+    if (config.contains("regions"))
+      for (const auto& [name, r] : config["regions"].items()) needs_extremities |= r.contains("extremity");
+    if (needs_extremities) extremities_ = find_extremities(mesh);
+  }
+
+  long vertex_count() const { return mesh_.vertex_count(); }
+
+  /// {"extremity": name, "extent": e}: the vertices within e × the extremity's reach of it.
+  std::vector<int> extremity_region(const core::Json& rule, const std::string& what) const {
+    const auto name = core::get_field<std::string>(rule, "extremity", source_);
+    if (!extremities_.vertices.count(name))
+      throw core::bad_input(source_, what + ": unknown extremity '" + name + "' (head, hand_l, hand_r, foot_l, foot_r)");
+    const double extent = core::get_field<double>(rule, "extent", source_);
+    const int seed = extremities_.vertices.at(name);
+    const auto d = geometry::edge_geodesic_distance(mesh_.V, adjacency_, {seed});
+    std::vector<int> out;
+    for (long v = 0; v < vertex_count(); ++v)
+      if (d[v] <= extent * extremities_.reach.at(name)) out.push_back(static_cast<int>(v));
+    return out;
+  }
+
+  /// A part's core grown into its neighbours: by geodesic distance ("overlap", metres, survives
+  /// remeshing) and/or by rings ("overlap_rings").
+  std::vector<int> with_overlap(const core::Json& part, const std::vector<int>& core_vertices) const {
+    std::vector<int> vertices = core_vertices;
+    const double overlap = core::number_field(part, "overlap", source_, 0, core::kMaxCoordinate, 0.0);
+    if (overlap > 0 && !core_vertices.empty()) {
+      const auto d = geometry::edge_geodesic_distance(mesh_.V, adjacency_, core_vertices);
+      vertices.clear();
+      for (long v = 0; v < vertex_count(); ++v)
+        if (d[v] <= overlap) vertices.push_back(static_cast<int>(v));
+    }
+    const int rings = static_cast<int>(core::integer_field_or(part, "overlap_rings", source_, 0, 1000, 0));
+    if (rings > 0) vertices = geometry::grow_region(adjacency_, vertices, rings);
+    return vertices;
+  }
+
+ private:
+  const core::Mesh& mesh_;
+  const std::filesystem::path& source_;
+  std::vector<std::vector<int>> adjacency_;
+  Extremities extremities_;
+};
+
+/// The vertices of no part's core (the "rest" part).
+std::vector<int> vertices_outside(const std::vector<std::vector<int>>& cores, long vertex_count) {
+  std::vector<char> taken(static_cast<std::size_t>(vertex_count), 0);
+  for (const auto& core_vertices : cores)
+    for (int v : core_vertices) taken[v] = 1;
+  std::vector<int> rest;
+  for (long v = 0; v < vertex_count; ++v)
+    if (!taken[v]) rest.push_back(static_cast<int>(v));
+  return rest;
+}
+
+/// Sets each part's parent from its configured parent name ("" for none).
+void link_parents(PartSet& set, const std::vector<std::string>& parent_names, const std::filesystem::path& source) {
+  for (std::size_t i = 0; i < set.parts.size(); ++i) {
+    if (parent_names[i].empty()) continue;
+    set.parts[i].parent = set.find(parent_names[i]);
+    if (set.parts[i].parent < 0)
+      throw core::bad_input(source, "part '" + set.parts[i].name + "': unknown parent '" + parent_names[i] + "'");
+  }
+}
+
+}  // namespace
+
 PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, const std::filesystem::path& source) {
-  const long n = mesh.vertex_count();
-  const auto adjacency = geometry::vertex_adjacency(mesh.F, n);
   if (!config.contains("parts") || !config["parts"].is_array())
     throw core::bad_input(source, "missing \"parts\" array");
-  bool needs_extremities = false;
-  for (const auto& p : config["parts"]) needs_extremities |= p.contains("extremity");
-  if (config.contains("regions"))
-    for (const auto& [name, r] : config["regions"].items()) needs_extremities |= r.contains("extremity");
-  Extremities extremities;
-  if (needs_extremities) extremities = find_extremities(mesh);
-  auto core_region = [&](const core::Json& rule, const std::string& what) {
-    const auto name = core::get_field<std::string>(rule, "extremity", source);
-    if (!extremities.vertices.count(name))
-      throw core::bad_input(source, what + ": unknown extremity '" + name + "' (head, hand_l, hand_r, foot_l, foot_r)");
-    const double extent = core::get_field<double>(rule, "extent", source);
-    const int seed = extremities.vertices.at(name);
-    const auto d = geometry::edge_geodesic_distance(mesh.V, adjacency, {seed});
-    std::vector<int> out;
-    for (long v = 0; v < n; ++v)
-      if (d[v] <= extent * extremities.reach.at(name)) out.push_back(static_cast<int>(v));
-    return out;
-  };
-
+  const PartRegions regions(config, mesh, source);
   PartSet set;
   std::vector<std::string> parent_names;
   std::vector<std::vector<int>> cores;
@@ -195,51 +252,34 @@ PartSet evaluate_part_config(const core::Json& config, const core::Mesh& mesh, c
     parent_names.push_back(p.value("parent", std::string()));
     std::vector<int> core_vertices;
     if (p.contains("vertices")) {
-      core_vertices = vertex_list(p["vertices"], n, source, what);
+      core_vertices = vertex_list(p["vertices"], regions.vertex_count(), source, what);
     } else if (p.contains("extremity")) {
-      core_vertices = core_region(p, what);
+      core_vertices = regions.extremity_region(p, what);
     } else if (p.value("rest", false)) {
       if (rest_index >= 0) throw core::bad_input(source, "only one part may be \"rest\"");
       rest_index = static_cast<int>(set.parts.size());
     } else {
       throw core::bad_input(source, what + ": give \"vertices\", \"extremity\"+\"extent\" or \"rest\": true");
     }
-    // Overlap into the neighbours: by geodesic distance (metres, survives remeshing) and/or rings.
-    part.vertices = core_vertices;
-    const double overlap = core::number_field(p, "overlap", source, 0, core::kMaxCoordinate, 0.0);
-    if (overlap > 0 && !core_vertices.empty()) {
-      const auto d = geometry::edge_geodesic_distance(mesh.V, adjacency, core_vertices);
-      part.vertices.clear();
-      for (long v = 0; v < n; ++v)
-        if (d[v] <= overlap) part.vertices.push_back(static_cast<int>(v));
-    }
-    const int rings = static_cast<int>(core::integer_field_or(p, "overlap_rings", source, 0, 1000, 0));
-    if (rings > 0) part.vertices = geometry::grow_region(adjacency, part.vertices, rings);
+    part.vertices = regions.with_overlap(p, core_vertices);
     cores.push_back(core_vertices);
     set.parts.push_back(std::move(part));
   }
   if (rest_index >= 0) {
-    std::vector<char> taken(static_cast<std::size_t>(n), 0);
-    for (std::size_t i = 0; i < cores.size(); ++i)
-      for (int v : cores[i]) taken[v] = 1;
-    auto& rest = set.parts[rest_index].vertices;
-    for (long v = 0; v < n; ++v)
-      if (!taken[v]) rest.push_back(static_cast<int>(v));
+    const std::vector<int> rest = vertices_outside(cores, regions.vertex_count());
+    auto& vertices = set.parts[rest_index].vertices;
+    vertices.insert(vertices.end(), rest.begin(), rest.end());
   }
-  for (std::size_t i = 0; i < set.parts.size(); ++i) {
-    if (parent_names[i].empty()) continue;
-    set.parts[i].parent = set.find(parent_names[i]);
-    if (set.parts[i].parent < 0)
-      throw core::bad_input(source, "part '" + set.parts[i].name + "': unknown parent '" + parent_names[i] + "'");
-  }
+  link_parents(set, parent_names, source);
   if (config.contains("regions")) {
     for (const auto& [name, r] : config["regions"].items()) {
       const std::string what = "region '" + core::check_name(source, "regions", name) + "'";
-      set.regions[name] = r.contains("vertices") ? vertex_list(r["vertices"], n, source, what) : core_region(r, what);
+      set.regions[name] = r.contains("vertices") ? vertex_list(r["vertices"], regions.vertex_count(), source, what)
+                                                 : regions.extremity_region(r, what);
       if (set.regions[name].empty()) throw core::bad_input(source, what + " is empty");
     }
   }
-  finalise_hierarchy(set, n, source);
+  finalise_hierarchy(set, regions.vertex_count(), source);
   return set;
 }
 

@@ -16,18 +16,15 @@
 namespace surfcap::synth {
 namespace {
 
-/// Keeps the faces marked in `keep`, then drops what would make the surface
-/// non-manifold at a vertex (all but the largest fan of faces around it),
-/// components of fewer than `min_faces` faces and unreferenced vertices;
-/// per-vertex ground truth follows its vertex.
-void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
-  const long n = r.mesh.vertex_count();
+/// Unmarks, at each vertex whose kept faces form several fans (faces linked through an edge at
+/// that vertex), all but the largest fan; repeated until nothing changes (at most 8 passes).
+void drop_extra_fans(const core::Mesh& mesh, std::vector<bool>& keep) {
+  const long n = mesh.vertex_count();
   for (int pass = 0; pass < 8; ++pass) {
-    // Fans around each vertex: faces linked through an edge at that vertex.
     std::vector<std::vector<int>> incident(static_cast<std::size_t>(n));
-    for (long f = 0; f < r.mesh.face_count(); ++f)
+    for (long f = 0; f < mesh.face_count(); ++f)
       if (keep[static_cast<std::size_t>(f)])
-        for (int k = 0; k < 3; ++k) incident[static_cast<std::size_t>(r.mesh.F(f, k))].push_back(static_cast<int>(f));
+        for (int k = 0; k < 3; ++k) incident[static_cast<std::size_t>(mesh.F(f, k))].push_back(static_cast<int>(f));
     bool changed = false;
     for (long v = 0; v < n; ++v) {
       const auto& faces = incident[static_cast<std::size_t>(v)];
@@ -37,7 +34,7 @@ void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
         for (std::size_t b = a + 1; b < faces.size(); ++b) {
           int shared = 0;
           for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) shared += r.mesh.F(faces[a], i) == r.mesh.F(faces[b], j);
+            for (int j = 0; j < 3; ++j) shared += mesh.F(faces[a], i) == mesh.F(faces[b], j);
           if (shared >= 2) fan.unite(static_cast<int>(a), static_cast<int>(b));
         }
       std::map<int, int> sizes;
@@ -52,19 +49,32 @@ void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
     }
     if (!changed) break;
   }
-  // Components (through shared vertices) of fewer than min_faces faces.
-  DisjointSets parent(static_cast<std::size_t>(n));
-  for (long f = 0; f < r.mesh.face_count(); ++f)
-    if (keep[static_cast<std::size_t>(f)])
-      for (int k = 1; k < 3; ++k) parent.unite(r.mesh.F(f, k), r.mesh.F(f, 0));
-  std::vector<long> component_faces(static_cast<std::size_t>(n), 0);
-  for (long f = 0; f < r.mesh.face_count(); ++f)
-    if (keep[static_cast<std::size_t>(f)]) ++component_faces[static_cast<std::size_t>(parent.find(r.mesh.F(f, 0)))];
-  for (long f = 0; f < r.mesh.face_count(); ++f)
-    if (keep[static_cast<std::size_t>(f)] &&
-        component_faces[static_cast<std::size_t>(parent.find(r.mesh.F(f, 0)))] < min_faces)
-      keep[static_cast<std::size_t>(f)] = false;
+}
 
+/// Unmarks the components (through shared vertices) of fewer than `min_faces` kept faces.
+void drop_small_components(const core::Mesh& mesh, std::vector<bool>& keep, long min_faces) {
+  const long n = mesh.vertex_count();
+  DisjointSets parent(static_cast<std::size_t>(n));
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (keep[static_cast<std::size_t>(f)])
+      for (int k = 1; k < 3; ++k) parent.unite(mesh.F(f, k), mesh.F(f, 0));
+  std::vector<long> component_faces(static_cast<std::size_t>(n), 0);
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (keep[static_cast<std::size_t>(f)]) ++component_faces[static_cast<std::size_t>(parent.find(mesh.F(f, 0)))];
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (keep[static_cast<std::size_t>(f)] &&
+        component_faces[static_cast<std::size_t>(parent.find(mesh.F(f, 0)))] < min_faces)
+      keep[static_cast<std::size_t>(f)] = false;
+}
+
+/// Keeps the faces marked in `keep`, then drops what would make the surface
+/// non-manifold at a vertex (all but the largest fan of faces around it),
+/// components of fewer than `min_faces` faces and unreferenced vertices;
+/// per-vertex ground truth follows its vertex.
+void keep_faces(Reconstruction& r, std::vector<bool> keep, long min_faces) {
+  const long n = r.mesh.vertex_count();
+  drop_extra_fans(r.mesh, keep);
+  drop_small_components(r.mesh, keep, min_faces);
   std::vector<int> new_index(static_cast<std::size_t>(n), -1);
   long faces = 0;
   for (long f = 0; f < r.mesh.face_count(); ++f)
@@ -189,70 +199,60 @@ void add_blobs(Reconstruction& r, const core::Mesh& truth, Gaussian& random, con
     }
 }
 
-}  // namespace
 
-double surface_area(const core::Mesh& mesh) {
-  double area = 0;
-  for (long f = 0; f < mesh.face_count(); ++f) area += face_normal(mesh.V, mesh.F, f).norm() / 2;
-  return area;
-}
+/// Per face over the cameras: the most frontal camera that sees it, the most frontal that faces
+/// it at all, and the set of cameras (the first 64) that see it.
+struct CameraChoice {
+  std::vector<double> best_seen, best_any;
+  std::vector<int> any_camera;
+  std::vector<std::uint64_t> seen_by;
+};
 
-double edge_for_vertices(double area, int vertices) {
-  // A closed mesh of n vertices has about 2n faces; an equilateral face of edge
-  // e covers √3/4 e².
-  return std::sqrt(2 * area / (std::sqrt(3.0) * std::max(vertices, 1)));
-}
-
-FaceVisibility face_visibility(const core::Mesh& mesh, const std::vector<render::Camera>& cameras) {
-  const long m = mesh.face_count();
-  FaceVisibility result;
-  result.views.assign(static_cast<std::size_t>(m), 0);
-  result.best_camera.assign(static_cast<std::size_t>(m), -1);
-  std::vector<double> best_seen(static_cast<std::size_t>(m), 0), best_any(static_cast<std::size_t>(m), 0);
-  std::vector<int> any_camera(static_cast<std::size_t>(m), -1);
-  std::vector<std::uint64_t> seen_by(static_cast<std::size_t>(m), 0);
-  // Facing is judged on the mean of the corners' vertex normals: less noisy
-  // than the face's own.
-  const Eigen::MatrixXd vertex_normals = core::vertex_normals(mesh.V, mesh.F);
-  for (std::size_t c = 0; c < cameras.size(); ++c) {
-    const render::Camera& camera = cameras[c];
-    const render::Rendering rendering = render::render_mesh(mesh, camera);
-    const Eigen::Vector3d centre = camera.centre();
-    for (long f = 0; f < m; ++f) {
-      const Eigen::Vector3d centroid =
-          (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3;
-      if (!(face_normal(mesh.V, mesh.F, f).dot(centre - centroid) > 0)) continue;
-      const Eigen::Vector3d normal =
-          (vertex_normals.row(mesh.F(f, 0)) + vertex_normals.row(mesh.F(f, 1)) + vertex_normals.row(mesh.F(f, 2)))
-              .transpose()
-              .normalized();
-      const double facing = normal.dot((centre - centroid).normalized());
-      const std::size_t i = static_cast<std::size_t>(f);
-      if (facing > best_any[i]) best_any[i] = facing, any_camera[i] = static_cast<int>(c);
-      const Eigen::Vector3d local = camera.to_camera(centroid);
-      if (local.z() <= 0) continue;
-      const Eigen::Vector2d pixel = camera.project(centroid);
-      // 1 cm and two pixels' footprint: a face seen at a grazing angle is not
-      // hidden by itself.
-      const double tolerance = 0.01 + 2 * local.z() / camera.K(1, 1);
-      const int x = static_cast<int>(std::lround(pixel.x())), y = static_cast<int>(std::lround(pixel.y()));
-      bool visible = false;
-      for (int dy = -1; dy <= 1 && !visible; ++dy)
-        for (int dx = -1; dx <= 1 && !visible; ++dx) {
-          const int px = x + dx, py = y + dy;
-          if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
-          const float depth = rendering.depth[static_cast<std::size_t>(py) * static_cast<std::size_t>(camera.width) +
-                                              static_cast<std::size_t>(px)];
-          visible = depth >= local.z() - tolerance;
-        }
-      if (!visible) continue;
-      ++result.views[i];
-      if (c < 64) seen_by[i] |= std::uint64_t{1} << c;
-      if (facing > best_seen[i]) best_seen[i] = facing, result.best_camera[i] = static_cast<int>(c);
-    }
+/// The faces camera c sees (facing it and not hidden in its depth map): their view counts and
+/// best cameras.
+void record_camera_views(const core::Mesh& mesh, const Eigen::MatrixXd& vertex_normals,
+                         const std::vector<render::Camera>& cameras, std::size_t c, FaceVisibility& result,
+                         CameraChoice& choice) {
+  const render::Camera& camera = cameras[c];
+  const render::Rendering rendering = render::render_mesh(mesh, camera);
+  const Eigen::Vector3d centre = camera.centre();
+  for (long f = 0; f < mesh.face_count(); ++f) {
+    const Eigen::Vector3d centroid =
+        (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3;
+    if (!(face_normal(mesh.V, mesh.F, f).dot(centre - centroid) > 0)) continue;
+    const Eigen::Vector3d normal =
+        (vertex_normals.row(mesh.F(f, 0)) + vertex_normals.row(mesh.F(f, 1)) + vertex_normals.row(mesh.F(f, 2)))
+            .transpose()
+            .normalized();
+    const double facing = normal.dot((centre - centroid).normalized());
+    const std::size_t i = static_cast<std::size_t>(f);
+    if (facing > choice.best_any[i]) choice.best_any[i] = facing, choice.any_camera[i] = static_cast<int>(c);
+    const Eigen::Vector3d local = camera.to_camera(centroid);
+    if (local.z() <= 0) continue;
+    const Eigen::Vector2d pixel = camera.project(centroid);
+    // 1 cm and two pixels' footprint: a face seen at a grazing angle is not
+    // hidden by itself.
+    const double tolerance = 0.01 + 2 * local.z() / camera.K(1, 1);
+    const int x = static_cast<int>(std::lround(pixel.x())), y = static_cast<int>(std::lround(pixel.y()));
+    bool visible = false;
+    for (int dy = -1; dy <= 1 && !visible; ++dy)
+      for (int dx = -1; dx <= 1 && !visible; ++dx) {
+        const int px = x + dx, py = y + dy;
+        if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
+        const float depth = rendering.depth[static_cast<std::size_t>(py) * static_cast<std::size_t>(camera.width) +
+                                            static_cast<std::size_t>(px)];
+        visible = depth >= local.z() - tolerance;
+      }
+    if (!visible) continue;
+    ++result.views[i];
+    if (c < 64) choice.seen_by[i] |= std::uint64_t{1} << c;
+    if (facing > choice.best_seen[i]) choice.best_seen[i] = facing, result.best_camera[i] = static_cast<int>(c);
   }
-  // Fewer, larger charts: a face takes the camera most of its edge neighbours
-  // have when that camera sees it too (three passes of a majority filter).
+}
+
+/// The face across each edge k (F(f,k) → F(f,k+1)) of each face; −1 on the boundary.
+std::vector<std::array<int, 3>> face_neighbours(const core::Mesh& mesh) {
+  const long m = mesh.face_count();
   std::map<std::pair<int, int>, std::vector<int>> edge_faces;
   for (long f = 0; f < m; ++f)
     for (int k = 0; k < 3; ++k)
@@ -262,45 +262,125 @@ FaceVisibility face_visibility(const core::Mesh& mesh, const std::vector<render:
     for (int k = 0; k < 3; ++k)
       for (const int g : edge_faces[std::minmax(mesh.F(f, k), mesh.F(f, (k + 1) % 3))])
         if (g != f) neighbours[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = g;
+  return neighbours;
+}
+
+/// Fewer, larger charts: a face takes the camera most of its edge neighbours have when that
+/// camera sees it too (three passes of a majority filter).
+void smooth_best_cameras(const std::vector<std::array<int, 3>>& neighbours, const std::vector<std::uint64_t>& seen_by,
+                         std::vector<int>& best_camera) {
   for (int pass = 0; pass < 3; ++pass) {
-    std::vector<int> smoothed = result.best_camera;
-    for (long f = 0; f < m; ++f) {
-      const auto& n = neighbours[static_cast<std::size_t>(f)];
+    std::vector<int> smoothed = best_camera;
+    for (std::size_t f = 0; f < neighbours.size(); ++f) {
+      const auto& n = neighbours[f];
       for (int a = 0; a < 3; ++a) {
         if (n[a] < 0) continue;
-        const int camera = result.best_camera[static_cast<std::size_t>(n[a])];
+        const int camera = best_camera[static_cast<std::size_t>(n[a])];
         int votes = 0;
-        for (int b = 0; b < 3; ++b) votes += n[b] >= 0 && result.best_camera[static_cast<std::size_t>(n[b])] == camera;
-        if (votes >= 2 && camera >= 0 && camera < 64 && (seen_by[static_cast<std::size_t>(f)] >> camera & 1)) {
-          smoothed[static_cast<std::size_t>(f)] = camera;
+        for (int b = 0; b < 3; ++b) votes += n[b] >= 0 && best_camera[static_cast<std::size_t>(n[b])] == camera;
+        if (votes >= 2 && camera >= 0 && camera < 64 && (seen_by[f] >> camera & 1)) {
+          smoothed[f] = camera;
           break;
         }
       }
     }
-    result.best_camera = std::move(smoothed);
+    best_camera = std::move(smoothed);
   }
-  for (long f = 0; f < m; ++f)
-    if (result.best_camera[static_cast<std::size_t>(f)] < 0)
-      result.best_camera[static_cast<std::size_t>(f)] = any_camera[static_cast<std::size_t>(f)];
-  return result;
 }
 
-Reconstruction reconstruct_studio(const core::Mesh& truth, const std::vector<render::Camera>& cameras,
-                                  std::vector<Silhouette> silhouettes, double edge, std::uint64_t seed,
-                                  const ReconstructionOptions& options) {
-  Reconstruction r;
-  const double edge_target = options.vertices > 0 ? edge_for_vertices(surface_area(truth), options.vertices) : edge;
-  if (options.visual_hull) {
-    if (silhouettes.empty())
-      for (const auto& camera : cameras) silhouettes.push_back(silhouette_of(truth, camera));
-    const VoxelGrid grid = carve_visual_hull(silhouettes, truth.V.colwise().minCoeff().transpose(),
-                                             truth.V.colwise().maxCoeff().transpose(), options.voxel);
-    Gaussian random{std::mt19937_64(seed)};
-    r.target_edge = edge_target * (1.0 + options.edge_jitter * (2 * random.uniform() - 1));
-    r.mesh = remesh_surface(marching_tetrahedra(grid), r.target_edge, options.iterations);
-  } else {
-    r.mesh = remesh_truth(truth, edge_target, seed, options, r.target_edge);
+/// The undirected edges of a mesh with their face counts, its connected components and its
+/// boundary half-edges.
+struct MeshEdges {
+  std::map<std::pair<int, int>, int> faces;       // undirected edge → faces
+  std::map<int, std::vector<int>> boundary_next;  // boundary half-edge a → b
+  DisjointSets components;
+};
+
+/// The mesh's edges; marks the vertices on its boundary.
+MeshEdges mesh_edges(const core::Mesh& mesh, std::vector<std::uint8_t>& boundary_vertex) {
+  const long m = mesh.face_count();
+  MeshEdges edges{{}, {}, DisjointSets(static_cast<std::size_t>(mesh.vertex_count()))};
+  for (long f = 0; f < m; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a0 = mesh.F(f, k), b0 = mesh.F(f, (k + 1) % 3);
+      ++edges.faces[std::minmax(a0, b0)];
+      edges.components.unite(a0, b0);
+    }
+  for (long f = 0; f < m; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a0 = mesh.F(f, k), b0 = mesh.F(f, (k + 1) % 3);
+      if (edges.faces[std::minmax(a0, b0)] == 1) {
+        edges.boundary_next[a0].push_back(b0);
+        boundary_vertex[static_cast<std::size_t>(a0)] = boundary_vertex[static_cast<std::size_t>(b0)] = 1;
+      }
+    }
+  return edges;
+}
+
+/// Components (all-blob ones apart), their holes and genus.
+void count_components(const core::Mesh& mesh, const std::vector<std::uint8_t>& status, MeshEdges& edges,
+                      FrameArtefacts& a) {
+  const long n = mesh.vertex_count();
+  DisjointSets& parent = edges.components;
+  // Per component: vertices, edges, faces, boundary loops → genus = (2 − χ − b)
+  // / 2.
+  std::map<int, std::array<long, 4>> component;  // root → V, E, F, loops
+  std::map<int, bool> all_blob;
+  for (long v = 0; v < n; ++v) {
+    const int root = parent.find(static_cast<int>(v));
+    ++component[root][0];
+    const bool blob = v < static_cast<long>(status.size()) &&
+                      status[static_cast<std::size_t>(v)] == static_cast<std::uint8_t>(VertexStatus::blob);
+    all_blob[root] = all_blob.count(root) ? all_blob[root] && blob : blob;
   }
+  for (const auto& [edge, count] : edges.faces) ++component[parent.find(edge.first)][1];
+  for (long f = 0; f < mesh.face_count(); ++f) ++component[parent.find(mesh.F(f, 0))][2];
+  // Boundary loops: components of the boundary edges (one loop each once
+  // pinches are gone).
+  DisjointSets loop(static_cast<std::size_t>(n));
+  for (const auto& [from, targets] : edges.boundary_next)
+    for (const int to : targets) loop.unite(from, to);
+  for (const auto& [from, targets] : edges.boundary_next)
+    if (loop.find(from) == from) ++component[parent.find(from)][3];
+  for (const auto& [root, c] : component) {
+    if (c[2] == 0) continue;  // unreferenced vertex
+    if (all_blob[root]) {
+      ++a.blob_components;
+      continue;
+    }
+    ++a.components;
+    a.holes += c[3];
+    const long chi = c[0] - c[1] + c[2];
+    a.genus += (2 - chi - c[3]) / 2;
+  }
+}
+
+/// Edges joining vertices of different body parts that were far apart at rest: surfaces merged
+/// by the reconstruction (the skirt over the thighs apart).
+void count_merged_edges(const core::Mesh& mesh, const MeshEdges& edges, const Eigen::MatrixXd& rest_points,
+                        const std::vector<int>& parts, FrameArtefacts& a) {
+  const auto is_leg = [](int p) {
+    return p == static_cast<int>(BodyPart::leg_l) || p == static_cast<int>(BodyPart::leg_r);
+  };
+  const int garment = static_cast<int>(BodyPart::garment);
+  for (const auto& [edge, count] : edges.faces) {
+    const auto [i, j] = edge;
+    const int pi = parts[static_cast<std::size_t>(i)], pj = parts[static_cast<std::size_t>(j)];
+    if (pi < 0 || pj < 0 || pi == pj) continue;
+    if ((pi == garment && is_leg(pj)) || (pj == garment && is_leg(pi))) continue;  // the skirt over the thighs
+    const double length = (mesh.V.row(i) - mesh.V.row(j)).norm();
+    const double apart = (rest_points.row(i) - rest_points.row(j)).norm();
+    if (apart > std::max(0.05, 4 * length)) {
+      ++a.merged_edges;
+      a.merged_vertex[static_cast<std::size_t>(i)] = a.merged_vertex[static_cast<std::size_t>(j)] = 1;
+    }
+  }
+}
+
+
+/// Moves each vertex onto its closest point of the true surface; a visual hull's vertices farther
+/// than the tolerance only partly (phantom surface).
+void snap_to_truth(Reconstruction& r, const core::Mesh& truth, const ReconstructionOptions& options) {
   closest_truth_points(truth, r.mesh.V, r.face, r.barycentric);
   const Eigen::MatrixXd exact = surface_points(truth.V, truth.F, r.face, r.barycentric);
   r.status.assign(static_cast<std::size_t>(r.mesh.vertex_count()), static_cast<std::uint8_t>(VertexStatus::on_surface));
@@ -316,7 +396,11 @@ Reconstruction reconstruct_studio(const core::Mesh& truth, const std::vector<ren
       r.status[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(VertexStatus::phantom);
     }
   }
+}
 
+/// Drops the faces below the floor cut and, per options.unseen, those seen by too few cameras
+/// (or marks their vertices rough).
+void cut_faces(Reconstruction& r, const std::vector<render::Camera>& cameras, const ReconstructionOptions& options) {
   std::vector<bool> keep(static_cast<std::size_t>(r.mesh.face_count()), true);
   if (options.floor_cut)
     for (long f = 0; f < r.mesh.face_count(); ++f)
@@ -340,30 +424,91 @@ Reconstruction reconstruct_studio(const core::Mesh& truth, const std::vector<ren
         r.status[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(VertexStatus::rough);
   }
   keep_faces(r, keep, 12);
+}
 
-  const long n = r.mesh.vertex_count();
+/// Gaussian noise along the normals; rough vertices get more.
+void add_noise(Reconstruction& r, const Eigen::MatrixXd& normals, std::uint64_t seed,
+               const ReconstructionOptions& options) {
   Gaussian gaussian{std::mt19937_64(seed ^ 0x5eed5eed5eedULL)};
-  const Eigen::MatrixXd normals = core::vertex_normals(r.mesh.V, r.mesh.F);
-  for (long v = 0; v < n; ++v) {
+  for (long v = 0; v < r.mesh.vertex_count(); ++v) {
     double offset = options.noise_sigma * gaussian.next();
     if (r.status[static_cast<std::size_t>(v)] == static_cast<std::uint8_t>(VertexStatus::rough))
       offset += options.rough_sigma * gaussian.next();
     r.mesh.V.row(v) += offset * normals.row(v);
   }
-  Gaussian random{std::mt19937_64(seed ^ 0x0b1e0b1e0b1eULL)};
+}
+
+/// A fraction of the vertices, drawn without replacement, pushed off the surface along ± normal.
+void add_outliers(Reconstruction& r, const Eigen::MatrixXd& normals, Gaussian& random,
+                  const ReconstructionOptions& options) {
+  const long n = r.mesh.vertex_count();
   const long outliers = std::lround(options.outlier_fraction * static_cast<double>(n));
-  if (outliers > 0) {
-    std::vector<int> order(static_cast<std::size_t>(n));
-    std::iota(order.begin(), order.end(), 0);
-    for (long i = 0; i < outliers; ++i) {
-      const long j = i + std::min<long>(n - i - 1, static_cast<long>(random.uniform() * static_cast<double>(n - i)));
-      std::swap(order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(j)]);
-      const int v = order[static_cast<std::size_t>(i)];
-      const double sign = random.uniform() < 0.5 ? -1.0 : 1.0;
-      r.mesh.V.row(v) += sign * options.outlier_distance * (0.5 + random.uniform()) * normals.row(v);
-      r.status[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(VertexStatus::outlier);
-    }
+  if (outliers <= 0) return;
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  for (long i = 0; i < outliers; ++i) {
+    const long j = i + std::min<long>(n - i - 1, static_cast<long>(random.uniform() * static_cast<double>(n - i)));
+    std::swap(order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(j)]);
+    const int v = order[static_cast<std::size_t>(i)];
+    const double sign = random.uniform() < 0.5 ? -1.0 : 1.0;
+    r.mesh.V.row(v) += sign * options.outlier_distance * (0.5 + random.uniform()) * normals.row(v);
+    r.status[static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(VertexStatus::outlier);
   }
+}
+
+}  // namespace
+
+double surface_area(const core::Mesh& mesh) {
+  double area = 0;
+  for (long f = 0; f < mesh.face_count(); ++f) area += face_normal(mesh.V, mesh.F, f).norm() / 2;
+  return area;
+}
+
+double edge_for_vertices(double area, int vertices) {
+  // A closed mesh of n vertices has about 2n faces; an equilateral face of edge
+  // e covers √3/4 e².
+  return std::sqrt(2 * area / (std::sqrt(3.0) * std::max(vertices, 1)));
+}
+
+FaceVisibility face_visibility(const core::Mesh& mesh, const std::vector<render::Camera>& cameras) {
+  const auto m = static_cast<std::size_t>(mesh.face_count());
+  FaceVisibility result;
+  result.views.assign(m, 0);
+  result.best_camera.assign(m, -1);
+  CameraChoice choice{std::vector<double>(m, 0), std::vector<double>(m, 0), std::vector<int>(m, -1),
+                      std::vector<std::uint64_t>(m, 0)};
+  // Facing is judged on the mean of the corners' vertex normals: less noisy
+  // than the face's own.
+  const Eigen::MatrixXd vertex_normals = core::vertex_normals(mesh.V, mesh.F);
+  for (std::size_t c = 0; c < cameras.size(); ++c) record_camera_views(mesh, vertex_normals, cameras, c, result, choice);
+  smooth_best_cameras(face_neighbours(mesh), choice.seen_by, result.best_camera);
+  for (std::size_t f = 0; f < m; ++f)
+    if (result.best_camera[f] < 0) result.best_camera[f] = choice.any_camera[f];
+  return result;
+}
+
+Reconstruction reconstruct_studio(const core::Mesh& truth, const std::vector<render::Camera>& cameras,
+                                  std::vector<Silhouette> silhouettes, double edge, std::uint64_t seed,
+                                  const ReconstructionOptions& options) {
+  Reconstruction r;
+  const double edge_target = options.vertices > 0 ? edge_for_vertices(surface_area(truth), options.vertices) : edge;
+  if (options.visual_hull) {
+    if (silhouettes.empty())
+      for (const auto& camera : cameras) silhouettes.push_back(silhouette_of(truth, camera));
+    const VoxelGrid grid = carve_visual_hull(silhouettes, truth.V.colwise().minCoeff().transpose(),
+                                             truth.V.colwise().maxCoeff().transpose(), options.voxel);
+    Gaussian random{std::mt19937_64(seed)};
+    r.target_edge = edge_target * (1.0 + options.edge_jitter * (2 * random.uniform() - 1));
+    r.mesh = remesh_surface(marching_tetrahedra(grid), r.target_edge, options.iterations);
+  } else {
+    r.mesh = remesh_truth(truth, edge_target, seed, options, r.target_edge);
+  }
+  snap_to_truth(r, truth, options);
+  cut_faces(r, cameras, options);
+  const Eigen::MatrixXd normals = core::vertex_normals(r.mesh.V, r.mesh.F);
+  add_noise(r, normals, seed, options);
+  Gaussian random{std::mt19937_64(seed ^ 0x0b1e0b1e0b1eULL)};
+  add_outliers(r, normals, random, options);
   if (options.blobs > 0) add_blobs(r, truth, random, options);
   return r;
 }
@@ -371,9 +516,9 @@ Reconstruction reconstruct_studio(const core::Mesh& truth, const std::vector<ren
 FrameArtefacts measure_artefacts(const core::Mesh& mesh, const std::vector<std::uint8_t>& status,
                                  const Eigen::MatrixXd& rest_points, const std::vector<int>& parts) {
   FrameArtefacts a;
-  const long n = mesh.vertex_count(), m = mesh.face_count();
+  const long n = mesh.vertex_count();
   a.vertices = n;
-  a.faces = m;
+  a.faces = mesh.face_count();
   a.merged_vertex.assign(static_cast<std::size_t>(n), 0);
   a.boundary_vertex.assign(static_cast<std::size_t>(n), 0);
   for (const auto s : status) {
@@ -382,72 +527,10 @@ FrameArtefacts measure_artefacts(const core::Mesh& mesh, const std::vector<std::
     a.blob_vertices += s == static_cast<std::uint8_t>(VertexStatus::blob);
     a.rough += s == static_cast<std::uint8_t>(VertexStatus::rough);
   }
-  DisjointSets parent(static_cast<std::size_t>(n));
-  std::map<std::pair<int, int>, int> edges;       // undirected edge → faces
-  std::map<int, std::vector<int>> boundary_next;  // boundary half-edge a → b
-  for (long f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a0 = mesh.F(f, k), b0 = mesh.F(f, (k + 1) % 3);
-      ++edges[std::minmax(a0, b0)];
-      parent.unite(a0, b0);
-    }
-  for (long f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a0 = mesh.F(f, k), b0 = mesh.F(f, (k + 1) % 3);
-      if (edges[std::minmax(a0, b0)] == 1) {
-        boundary_next[a0].push_back(b0);
-        a.boundary_vertex[static_cast<std::size_t>(a0)] = a.boundary_vertex[static_cast<std::size_t>(b0)] = 1;
-      }
-    }
-  // Per component: vertices, edges, faces, boundary loops → genus = (2 − χ − b)
-  // / 2.
-  std::map<int, std::array<long, 4>> component;  // root → V, E, F, loops
-  std::map<int, bool> all_blob;
-  for (long v = 0; v < n; ++v) {
-    const int root = parent.find(static_cast<int>(v));
-    ++component[root][0];
-    const bool blob = v < static_cast<long>(status.size()) &&
-                      status[static_cast<std::size_t>(v)] == static_cast<std::uint8_t>(VertexStatus::blob);
-    all_blob[root] = all_blob.count(root) ? all_blob[root] && blob : blob;
-  }
-  for (const auto& [edge, count] : edges) ++component[parent.find(edge.first)][1];
-  for (long f = 0; f < m; ++f) ++component[parent.find(mesh.F(f, 0))][2];
-  // Boundary loops: components of the boundary edges (one loop each once
-  // pinches are gone).
-  DisjointSets loop(static_cast<std::size_t>(n));
-  for (const auto& [from, targets] : boundary_next)
-    for (const int to : targets) loop.unite(from, to);
-  for (const auto& [from, targets] : boundary_next)
-    if (loop.find(from) == from) ++component[parent.find(from)][3];
-  for (const auto& [root, c] : component) {
-    if (c[2] == 0) continue;  // unreferenced vertex
-    if (all_blob[root]) {
-      ++a.blob_components;
-      continue;
-    }
-    ++a.components;
-    a.holes += c[3];
-    const long chi = c[0] - c[1] + c[2];
-    a.genus += (2 - chi - c[3]) / 2;
-  }
-  if (rest_points.rows() == n && static_cast<long>(parts.size()) == n) {
-    for (const auto& [edge, count] : edges) {
-      const auto [i, j] = edge;
-      const int pi = parts[static_cast<std::size_t>(i)], pj = parts[static_cast<std::size_t>(j)];
-      if (pi < 0 || pj < 0 || pi == pj) continue;
-      const auto is_leg = [](int p) {
-        return p == static_cast<int>(BodyPart::leg_l) || p == static_cast<int>(BodyPart::leg_r);
-      };
-      const int garment = static_cast<int>(BodyPart::garment);
-      if ((pi == garment && is_leg(pj)) || (pj == garment && is_leg(pi))) continue;  // the skirt over the thighs
-      const double length = (mesh.V.row(i) - mesh.V.row(j)).norm();
-      const double apart = (rest_points.row(i) - rest_points.row(j)).norm();
-      if (apart > std::max(0.05, 4 * length)) {
-        ++a.merged_edges;
-        a.merged_vertex[static_cast<std::size_t>(i)] = a.merged_vertex[static_cast<std::size_t>(j)] = 1;
-      }
-    }
-  }
+  MeshEdges edges = mesh_edges(mesh, a.boundary_vertex);
+  count_components(mesh, status, edges, a);
+  if (rest_points.rows() == n && static_cast<long>(parts.size()) == n)
+    count_merged_edges(mesh, edges, rest_points, parts, a);
   return a;
 }
 

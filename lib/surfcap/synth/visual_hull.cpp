@@ -48,6 +48,87 @@ double bilinear(const cv::Mat& image, double x, double y) {
          fy * ((1 - fx) * image.at<float>(y0 + 1, x0) + fx * image.at<float>(y0 + 1, x0 + 1));
 }
 
+/// The zero level set of a voxel grid's field, built one tetrahedron at a time; a vertex on each
+/// grid edge the surface crosses, shared by the triangles of every tetrahedron around that edge.
+class TetrahedraSurface {
+ public:
+  explicit TetrahedraSurface(const VoxelGrid& grid)
+      : grid_(grid), total_(static_cast<std::uint64_t>(grid.value.size())) {}
+
+  bool inside(std::size_t g) const { return grid_.value[g] > 0; }
+
+  /// The triangles of one tetrahedron (grid point indices), oriented from its inside points to
+  /// its outside ones.
+  void add_tetrahedron(const std::array<std::size_t, 4>& points) {
+    std::array<std::size_t, 4> in_points, out_points;
+    int n_in = 0, n_out = 0;
+    for (std::size_t g : points) {
+      if (inside(g))
+        in_points[n_in++] = g;
+      else
+        out_points[n_out++] = g;
+    }
+    if (n_in == 0 || n_out == 0) return;
+    Eigen::Vector3d outward = Eigen::Vector3d::Zero();
+    for (int o = 0; o < n_out; ++o) outward += position(out_points[o]) / n_out;
+    for (int o = 0; o < n_in; ++o) outward -= position(in_points[o]) / n_in;
+    if (n_in == 1) {
+      emit(crossing(in_points[0], out_points[0]), crossing(in_points[0], out_points[1]),
+           crossing(in_points[0], out_points[2]), outward);
+    } else if (n_in == 3) {
+      emit(crossing(in_points[0], out_points[0]), crossing(in_points[1], out_points[0]),
+           crossing(in_points[2], out_points[0]), outward);
+    } else {
+      const int q0 = crossing(in_points[0], out_points[0]), q1 = crossing(in_points[0], out_points[1]);
+      const int q2 = crossing(in_points[1], out_points[1]), q3 = crossing(in_points[1], out_points[0]);
+      emit(q0, q1, q2, outward);
+      emit(q0, q2, q3, outward);
+    }
+  }
+
+  core::Mesh mesh() const {
+    core::Mesh mesh;
+    mesh.V.resize(static_cast<long>(vertices_.size()), 3);
+    for (std::size_t v = 0; v < vertices_.size(); ++v) mesh.V.row(static_cast<long>(v)) = vertices_[v].transpose();
+    mesh.F.resize(static_cast<long>(faces_.size()), 3);
+    for (std::size_t f = 0; f < faces_.size(); ++f) mesh.F.row(static_cast<long>(f)) = faces_[f].transpose();
+    return mesh;
+  }
+
+ private:
+  Eigen::Vector3d position(std::size_t g) const {
+    const std::size_t i = g % static_cast<std::size_t>(grid_.nx);
+    const std::size_t j = g / static_cast<std::size_t>(grid_.nx) % static_cast<std::size_t>(grid_.ny);
+    const std::size_t k = g / (static_cast<std::size_t>(grid_.nx) * static_cast<std::size_t>(grid_.ny));
+    return grid_.point(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+  }
+
+  /// The vertex where the field crosses zero on the edge from an inside to an outside grid point.
+  int crossing(std::size_t in, std::size_t out) {
+    const std::uint64_t key = std::min<std::uint64_t>(in, out) * total_ + std::max<std::uint64_t>(in, out);
+    const auto found = edge_vertex_.find(key);
+    if (found != edge_vertex_.end()) return found->second;
+    const double a = grid_.value[in], b = grid_.value[out];
+    // Kept off the grid points, so no triangle degenerates to a point.
+    const double t = std::clamp(a / (a - b), 0.01, 0.99);
+    vertices_.push_back((1 - t) * position(in) + t * position(out));
+    const int index = static_cast<int>(vertices_.size()) - 1;
+    edge_vertex_.emplace(key, index);
+    return index;
+  }
+
+  void emit(int a, int b, int c, const Eigen::Vector3d& outward) {
+    const Eigen::Vector3d normal = (vertices_[b] - vertices_[a]).cross(vertices_[c] - vertices_[a]);
+    faces_.push_back(normal.dot(outward) >= 0 ? Eigen::Vector3i(a, b, c) : Eigen::Vector3i(a, c, b));
+  }
+
+  const VoxelGrid& grid_;
+  const std::uint64_t total_;
+  std::vector<Eigen::Vector3d> vertices_;
+  std::vector<Eigen::Vector3i> faces_;
+  std::unordered_map<std::uint64_t, int> edge_vertex_;
+};
+
 }  // namespace
 
 Silhouette silhouette_from_faces(const render::Camera& camera, const std::vector<int>& faces) {
@@ -114,35 +195,7 @@ core::Mesh marching_tetrahedra(const VoxelGrid& grid) {
   // shared face along the same diagonal).
   static constexpr std::array<std::array<int, 4>, 6> tetrahedra = {
       {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}};
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<Eigen::Vector3i> faces;
-  std::unordered_map<std::uint64_t, int> edge_vertex;
-  const std::uint64_t total = static_cast<std::uint64_t>(grid.value.size());
-  auto inside = [&](std::size_t g) { return grid.value[g] > 0; };
-  auto position = [&](std::size_t g) {
-    const std::size_t i = g % static_cast<std::size_t>(grid.nx);
-    const std::size_t j = g / static_cast<std::size_t>(grid.nx) % static_cast<std::size_t>(grid.ny);
-    const std::size_t k = g / (static_cast<std::size_t>(grid.nx) * static_cast<std::size_t>(grid.ny));
-    return grid.point(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
-  };
-  // The vertex where the field crosses zero on the edge from an inside to an
-  // outside grid point.
-  auto crossing = [&](std::size_t in, std::size_t out) {
-    const std::uint64_t key = std::min<std::uint64_t>(in, out) * total + std::max<std::uint64_t>(in, out);
-    const auto found = edge_vertex.find(key);
-    if (found != edge_vertex.end()) return found->second;
-    const double a = grid.value[in], b = grid.value[out];
-    // Kept off the grid points, so no triangle degenerates to a point.
-    const double t = std::clamp(a / (a - b), 0.01, 0.99);
-    vertices.push_back((1 - t) * position(in) + t * position(out));
-    const int index = static_cast<int>(vertices.size()) - 1;
-    edge_vertex.emplace(key, index);
-    return index;
-  };
-  auto emit = [&](int a, int b, int c, const Eigen::Vector3d& outward) {
-    const Eigen::Vector3d normal = (vertices[b] - vertices[a]).cross(vertices[c] - vertices[a]);
-    faces.push_back(normal.dot(outward) >= 0 ? Eigen::Vector3i(a, b, c) : Eigen::Vector3i(a, c, b));
-  };
+  TetrahedraSurface surface(grid);
   for (int k = 0; k + 1 < grid.nz; ++k)
     for (int j = 0; j + 1 < grid.ny; ++j)
       for (int i = 0; i + 1 < grid.nx; ++i) {
@@ -150,43 +203,16 @@ core::Mesh marching_tetrahedra(const VoxelGrid& grid) {
         int count_inside = 0;
         for (int c = 0; c < 8; ++c) {
           corner[c] = grid.index(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2 & 1));
-          count_inside += inside(corner[c]);
+          count_inside += surface.inside(corner[c]);
         }
         if (count_inside == 0 || count_inside == 8) continue;
-        for (const auto& tetrahedron : tetrahedra) {
-          std::array<std::size_t, 4> in_points, out_points;
-          int n_in = 0, n_out = 0;
-          for (int c : tetrahedron) {
-            const std::size_t g = corner[static_cast<std::size_t>(c)];
-            if (inside(g))
-              in_points[n_in++] = g;
-            else
-              out_points[n_out++] = g;
-          }
-          if (n_in == 0 || n_out == 0) continue;
-          Eigen::Vector3d outward = Eigen::Vector3d::Zero();
-          for (int o = 0; o < n_out; ++o) outward += position(out_points[o]) / n_out;
-          for (int o = 0; o < n_in; ++o) outward -= position(in_points[o]) / n_in;
-          if (n_in == 1) {
-            emit(crossing(in_points[0], out_points[0]), crossing(in_points[0], out_points[1]),
-                 crossing(in_points[0], out_points[2]), outward);
-          } else if (n_in == 3) {
-            emit(crossing(in_points[0], out_points[0]), crossing(in_points[1], out_points[0]),
-                 crossing(in_points[2], out_points[0]), outward);
-          } else {
-            const int q0 = crossing(in_points[0], out_points[0]), q1 = crossing(in_points[0], out_points[1]);
-            const int q2 = crossing(in_points[1], out_points[1]), q3 = crossing(in_points[1], out_points[0]);
-            emit(q0, q1, q2, outward);
-            emit(q0, q2, q3, outward);
-          }
-        }
+        for (const auto& tetrahedron : tetrahedra)
+          surface.add_tetrahedron({corner[static_cast<std::size_t>(tetrahedron[0])],
+                                   corner[static_cast<std::size_t>(tetrahedron[1])],
+                                   corner[static_cast<std::size_t>(tetrahedron[2])],
+                                   corner[static_cast<std::size_t>(tetrahedron[3])]});
       }
-  core::Mesh mesh;
-  mesh.V.resize(static_cast<long>(vertices.size()), 3);
-  for (std::size_t v = 0; v < vertices.size(); ++v) mesh.V.row(static_cast<long>(v)) = vertices[v].transpose();
-  mesh.F.resize(static_cast<long>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f) mesh.F.row(static_cast<long>(f)) = faces[f].transpose();
-  return mesh;
+  return surface.mesh();
 }
 
 }  // namespace surfcap::synth

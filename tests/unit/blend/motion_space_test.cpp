@@ -37,17 +37,14 @@ core::AlignedDatabase limb_database() {
 TEST(MotionSpace, BuildsWritesAndMapsSpeedToWeights) {
   const core::AlignedDatabase database = limb_database();
   surfcap::testing::TemporaryDirectory directory("blend_motion_space");
-  surfcap::testing::write_text(directory / "graph.json", R"({
-    "format": "surfcap.graph_config/1",
-    "spaces": [{"name": "gait", "sequences": ["walk", "run"], "cyclic": true, "frames": 9, "tolerance_mm": 5,
-                "parameters": [{"name": "speed", "measure": "root_speed"}]}],
-    "transitions": [{"from": "gait", "to": "gait"}]})");
-  const GraphConfig config = read_graph_config(directory / "graph.json");
+  const SpaceConfig config = parse_space_config(core::Json::parse(R"(
+    {"name": "gait", "sequences": ["walk", "run"], "cyclic": true, "frames": 9, "tolerance_mm": 5,
+     "parameters": [{"name": "speed", "measure": "root_speed"}]})"), directory / "graph.json");
   const NonlinearBlender blender(database.template_mesh);
   MotionSpaceOptions options;
   options.sweep_tolerances_mm = {5, 20};
   options.validation_samples = 4;
-  const MotionSpace space = build_motion_space(database, blender, config.spaces[0], options);
+  const MotionSpace space = build_motion_space(database, blender, config, options);
 
   // Warps: start and end of each cycle aligned, monotone.
   ASSERT_EQ(space.warps.size(), 2u);
@@ -65,13 +62,10 @@ TEST(MotionSpace, BuildsWritesAndMapsSpeedToWeights) {
   EXPECT_LE(space.figures["validation"]["hybrid_max_error_mm"].get<double>(), 5.0);
 
   write_motion_space(directory.path(), space);
-  ASSERT_TRUE(write_graph(directory.path(), config, {{"test", true}}));
-  const core::Json graph = core::read_json_document(directory / "graph.json", "graph", 1);
-  ASSERT_EQ(graph["spaces"].size(), 1u);
-  const core::Json& entry = graph["spaces"][0];
+  const core::Json entry = core::read_json_document(directory / "spaces" / "gait" / "space.json", "space", 1)["space"];
   EXPECT_EQ(entry["name"], "gait");
   EXPECT_EQ(entry["weights"].size(), static_cast<std::size_t>(space.hybrid->node_count()));
-  EXPECT_EQ(graph["transitions"][0]["from"], "gait");
+  EXPECT_EQ(entry["parameters"][0]["measure"], "root_speed");
   const core::NpyArray references = core::read_npy(directory.path() / entry["references"].get<std::string>());
   EXPECT_EQ(references.shape, (std::vector<std::size_t>{2, 9, 96, 3}));
   const core::NpyArray offsets = core::read_npy(directory.path() / entry["displacements"]["offsets"].get<std::string>());
@@ -84,24 +78,32 @@ TEST(MotionSpace, BuildsWritesAndMapsSpeedToWeights) {
   EXPECT_EQ(surfcap::testing::count_hidden_files(directory.path() / "spaces" / "gait"), 0);
 }
 
-TEST(MotionSpace, GraphWaitsForEveryShard) {
-  surfcap::testing::TemporaryDirectory directory("blend_graph_shards");
-  GraphConfig config;
-  config.spaces.resize(2);
-  config.spaces[0].name = "a";
-  config.spaces[1].name = "b";
-  EXPECT_FALSE(write_graph(directory.path(), config, {}));
-  EXPECT_FALSE(std::filesystem::exists(directory / "graph.json"));
+TEST(SpaceConfig, ReadsRangesParametersAndDefaults) {
+  const SpaceConfig config = parse_space_config(core::Json::parse(R"(
+    {"name": "reach", "sequences": [{"name": "low", "first": 2, "last": 9}, "high"],
+     "parameters": [{"name": "height", "measure": "hand_height", "vertices": [4, 7]}]})"), "reach.json");
+  EXPECT_EQ(config.source, "reach.json");
+  ASSERT_EQ(config.sequences.size(), 2u);
+  EXPECT_EQ(config.sequences[0].first, 2);
+  EXPECT_EQ(config.sequences[0].last, 9);
+  EXPECT_EQ(config.sequences[1].name, "high");
+  EXPECT_EQ(config.sequences[1].last, -1);
+  ASSERT_EQ(config.parameters.size(), 1u);
+  EXPECT_EQ(config.parameters[0].measure, Measure::hand_height);
+  EXPECT_EQ(config.parameters[0].vertices, (std::vector<int>{4, 7}));
+  EXPECT_FALSE(config.cyclic);
+  EXPECT_EQ(config.frames, 0);
+  EXPECT_DOUBLE_EQ(config.tolerance_mm, 5.0);
+  EXPECT_EQ(config.degree, 2);
 }
 
-TEST(GraphConfig, RejectsUnknownMeasuresAndMismatchedParameters) {
-  surfcap::testing::TemporaryDirectory directory("blend_graph_config");
-  surfcap::testing::write_text(directory / "bad.json", R"({"format": "surfcap.graph_config/1",
-    "spaces": [{"name": "s", "sequences": ["a", "b"], "parameters": [{"name": "p", "measure": "wobble"}]}]})");
-  EXPECT_THROW(read_graph_config(directory / "bad.json"), core::Error);
-  surfcap::testing::write_text(directory / "three.json", R"({"format": "surfcap.graph_config/1",
-    "spaces": [{"name": "s", "sequences": ["a", "b", "c"]}]})");
-  EXPECT_THROW(read_graph_config(directory / "three.json"), core::Error);
+TEST(SpaceConfig, RejectsUnknownMeasuresAndMismatchedParameters) {
+  EXPECT_THROW(parse_space_config(core::Json::parse(R"({"name": "s", "sequences": ["a", "b"],
+    "parameters": [{"name": "p", "measure": "wobble"}]})"), "bad.json"), core::Error);
+  EXPECT_THROW(parse_space_config(core::Json::parse(R"({"name": "s", "sequences": ["a", "b", "c"],
+    "parameters": [{"name": "p", "measure": "root_speed"}]})"), "three.json"), core::Error);
+  EXPECT_THROW(parse_space_config(core::Json::parse(R"({"name": "s", "sequences": ["a", "b"],
+    "parameters": [{"name": "p", "measure": "hand_height"}]})"), "hand.json"), core::Error);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "surfcap/core/cli.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/version.hpp"
 #include "test_support.hpp"
 
@@ -89,6 +90,17 @@ TEST(Cli, ProvenanceLeavesOutWhatCannotChangeAnOutput) {
   EXPECT_FALSE(options.contains("threads"));
   EXPECT_FALSE(options.contains("log-level"));
   EXPECT_FALSE(options.contains("log-json"));
+}
+
+TEST(Cli, MaxMemoryBelongsToItsApp) {
+  core::CommonOptions first, second;
+  EXPECT_EQ(run_tool({"--max-memory", "1G"}, [] {}, nullptr, &first), 0);
+  EXPECT_EQ(first.max_memory, "1G");
+  EXPECT_EQ(core::input_policy().max_memory_bytes, std::uint64_t{1} << 30);
+  // A later app starts from the default, not from the value the first one parsed.
+  EXPECT_EQ(run_tool({}, [] {}, nullptr, &second), 0);
+  EXPECT_EQ(second.max_memory, "0");
+  EXPECT_EQ(core::input_policy().max_memory_bytes, 0u);
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <functional>
+
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/json_document.hpp"
@@ -73,6 +76,44 @@ TEST(JsonDocument, FieldAccessNamesTheField) {
     EXPECT_NE(std::string(e.what()).find("capture.json"), std::string::npos);
   }
   EXPECT_THROW(core::get_field<int>(object, "count", "capture.json"), core::Error);
+}
+
+TEST(JsonDocument, IntegerFieldsTakeOnlyIntegersWithinTheType) {
+  const core::Json object = core::Json::parse(R"({"first": 1.5, "whole": 2.0, "exponent": 1e3, "flag": true,
+    "big": 3000000000, "negative": -1, "huge": 18446744073709551615, "count": 7, "name": "seven"})");
+  const auto expect_refused = [&](const std::function<void()>& read, const std::string& field, const std::string& got) {
+    try {
+      read();
+      ADD_FAILURE() << field << " was accepted";
+    } catch (const core::Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(e.code(), core::ExitCode::bad_input) << message;
+      EXPECT_NE(message.find("capture.json"), std::string::npos) << message;
+      EXPECT_NE(message.find("\"" + field + "\""), std::string::npos) << message;
+      EXPECT_NE(message.find(got), std::string::npos) << message;
+    }
+  };
+  // Floats are never truncated, whether or not they are whole; booleans are not numbers.
+  expect_refused([&] { core::get_field<int>(object, "first", "capture.json"); }, "first", "got 1.5");
+  expect_refused([&] { core::get_field<int>(object, "whole", "capture.json"); }, "whole", "got 2.0");
+  expect_refused([&] { core::get_field<long>(object, "exponent", "capture.json"); }, "exponent", "got 1000.0");
+  expect_refused([&] { core::get_field<std::int64_t>(object, "flag", "capture.json"); }, "flag", "got true");
+  expect_refused([&] { core::get_field<std::size_t>(object, "first", "capture.json"); }, "first", "got 1.5");
+  // Integers must fit the type: no wrapping.
+  expect_refused([&] { core::get_field<int>(object, "big", "capture.json"); }, "big", "got 3000000000");
+  expect_refused([&] { core::get_field<unsigned>(object, "negative", "capture.json"); }, "negative", "got -1");
+  expect_refused([&] { core::get_field<std::size_t>(object, "negative", "capture.json"); }, "negative", "got -1");
+  expect_refused([&] { core::get_field<std::int64_t>(object, "huge", "capture.json"); }, "huge",
+                 "got 18446744073709551615");
+  expect_refused([&] { core::get_field<std::uint32_t>(object, "huge", "capture.json"); }, "huge", "[0, 4294967295]");
+  expect_refused([&] { core::get_field<int>(object, "name", "capture.json"); }, "name", "wrong type");
+  EXPECT_EQ(core::get_field<int>(object, "count", "capture.json"), 7);
+  EXPECT_EQ(core::get_field<unsigned>(object, "count", "capture.json"), 7u);
+  EXPECT_EQ(core::get_field<std::int64_t>(object, "big", "capture.json"), 3000000000);
+  EXPECT_EQ(core::get_field<std::uint32_t>(object, "big", "capture.json"), 3000000000u);
+  EXPECT_EQ(core::get_field<std::uint64_t>(object, "huge", "capture.json"), 18446744073709551615u);
+  EXPECT_EQ(core::get_field<long>(object, "negative", "capture.json"), -1);
+  EXPECT_DOUBLE_EQ(core::get_field<double>(object, "count", "capture.json"), 7.0);  // an integer is a number
 }
 
 }  // namespace

@@ -93,6 +93,54 @@ TEST(MeshIO, ObjPolygonsAreTriangulated) {
   EXPECT_EQ(mesh.face_count(), 2);
 }
 
+/// A PLY of one convex polygon of `corners` vertices on the unit circle, its list counted with
+/// `count_type` (uchar, ushort or uint), ASCII or binary of either byte order.
+std::string polygon_ply(int corners, const std::string& count_type, const std::string& format) {
+  std::string text = "ply\nformat " + format + " 1.0\nelement vertex " + std::to_string(corners) +
+                     "\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+                     "comment a comment between the face properties\nproperty list " + count_type +
+                     " int vertex_indices\nend_header\n";
+  if (format == "ascii") {
+    for (int v = 0; v < corners; ++v)
+      text += std::to_string(std::cos(2 * M_PI * v / corners)) + " " + std::to_string(std::sin(2 * M_PI * v / corners)) + " 0\n";
+    text += std::to_string(corners);
+    for (int v = 0; v < corners; ++v) text += " " + std::to_string(v);
+    return text + "\n";
+  }
+  const bool big = format == "binary_big_endian";
+  const auto append = [&](std::uint32_t bits, int size) {
+    for (int k = 0; k < size; ++k) text.push_back(static_cast<char>(bits >> (8 * (big ? size - 1 - k : k)) & 0xff));
+  };
+  for (int v = 0; v < corners; ++v)
+    for (const float c : {static_cast<float>(std::cos(2 * M_PI * v / corners)),
+                          static_cast<float>(std::sin(2 * M_PI * v / corners)), 0.0f}) {
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, &c, 4);
+      append(bits, 4);
+    }
+  append(static_cast<std::uint32_t>(corners), count_type == "uchar" ? 1 : count_type == "ushort" ? 2 : 4);
+  for (int v = 0; v < corners; ++v) append(static_cast<std::uint32_t>(v), 4);
+  return text;
+}
+
+TEST(MeshIO, PlyListsCountedWithWiderIntegersAreRead) {
+  TemporaryDirectory dir("mesh_wide_counts");
+  // A polygon of n corners becomes n − 2 triangles, whatever the count type and encoding; one
+  // of more than 255 corners too, though a uchar count cannot hold it.
+  for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"})
+    for (const std::string count_type : {"uchar", "ushort", "uint"})
+      for (const int corners : {4, 300}) {
+        if (count_type == "uchar" && corners > 255) continue;
+        const auto path = dir / (format + "_" + count_type + "_" + std::to_string(corners) + ".ply");
+        write_text(path, polygon_ply(corners, count_type, format));
+        const core::Mesh mesh = core::read_mesh(path);
+        EXPECT_EQ(mesh.vertex_count(), corners) << path;
+        EXPECT_EQ(mesh.face_count(), corners - 2) << path;
+        EXPECT_EQ(mesh.F.maxCoeff(), corners - 1) << path;
+        EXPECT_NEAR(mesh.V(corners / 4, 1), std::sin(2 * M_PI * (corners / 4) / corners), 1e-5) << path;
+      }
+}
+
 TEST(MeshIO, MissingFileIsIoError) {
   TemporaryDirectory dir("mesh_missing");
   expect_error([&] { core::read_mesh(dir / "nothing.ply", {}, 7); }, ExitCode::io, "nothing.ply");

@@ -1,15 +1,17 @@
 #pragma once
-// The graph config (configs/graphs/*.json, docs/blend.md): motion spaces, their high-level
-// parameters and how each is measured, and the allowed transitions.
+// One motion space as a graph config declares it (configs/graphs/*.json "spaces", docs/blend.md):
+// its sequences, its high-level parameters and how each is measured.
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "surfcap/core/json_document.hpp"
 
 namespace surfcap::blend {
 
 /// Measures of a blended motion (computed from the blended meshes and root motion).
 enum class Measure { root_speed, turning_rate, jump_height, jump_length, hand_height };
-Measure parse_measure(const std::string& name);  ///< bad_input for unknown names
+Measure parse_measure(const std::string& name);  ///< bad_arguments for unknown names
 std::string measure_name(Measure measure);
 
 struct ParameterSpec {
@@ -35,17 +37,9 @@ struct SpaceConfig {
   std::filesystem::path source = "graph config";  ///< the file it was read from, for messages
 };
 
-struct TransitionConfig {
-  std::string from, to;
-};
-
-struct GraphConfig {
-  std::vector<SpaceConfig> spaces;
-  std::vector<TransitionConfig> transitions;
-  const SpaceConfig* find(const std::string& name) const;
-};
-
-/// Reads {"format": "surfcap.graph_config/1", ...}; bad_input names the file and field.
-GraphConfig read_graph_config(const std::filesystem::path& path);
+/// Parses one entry of a graph config's "spaces" read from `path`. Throws bad_input naming `path`
+/// and the field, bad_arguments for an unknown measure, and core::Json::exception for a missing or
+/// mistyped field; the caller (graph::read_graph_config) words the last two as bad_input.
+SpaceConfig parse_space_config(const core::Json& item, const std::filesystem::path& path);
 
 }  // namespace surfcap::blend
