@@ -99,26 +99,25 @@ bool encode_displacements(const CharacterSpace& space, long vertices, int expone
   DisplacementCodes out;
   out.masks.assign(static_cast<std::size_t>(nodes * vertices * words), 0);
   out.values.reserve(space.displacement_values.size());
-  std::vector<long> entry(static_cast<std::size_t>(frames * vertices));  // [t][v] → stored entry or -1
+  std::vector<long> entry(static_cast<std::size_t>(vertices));        // stored entry of v in the row, or -1
+  std::vector<std::int64_t> previous(static_cast<std::size_t>(vertices * 3));  // q at v's previous stored frame
   for (long r = 0; r < nodes; ++r) {
-    std::fill(entry.begin(), entry.end(), -1);
-    for (long t = 0; t < frames; ++t)
+    std::fill(previous.begin(), previous.end(), 0);
+    for (long t = 0; t < frames; ++t) {
+      std::fill(entry.begin(), entry.end(), -1);
       for (auto k = offsets[r * frames + t]; k < offsets[r * frames + t + 1]; ++k) {
         const long v = space.displacement_vertices[k];
-        if (v < 0 || v >= vertices || entry[t * vertices + v] >= 0) return false;  // out of range or stored twice
-        entry[t * vertices + v] = static_cast<long>(k);
+        if (v < 0 || v >= vertices || entry[v] >= 0) return false;  // out of range or stored twice
+        entry[v] = static_cast<long>(k);
       }
-    for (long v = 0; v < vertices; ++v) {
-      std::int64_t previous[3] = {0, 0, 0};
-      for (long t = 0; t < frames; ++t) {
-        const long k = entry[t * vertices + v];
-        if (k < 0) continue;
+      for (long v = 0; v < vertices; ++v) {
+        if (entry[v] < 0) continue;
         out.masks[(r * vertices + v) * words + t / 32] |= std::uint32_t{1} << (t % 32);
         for (int c = 0; c < 3; ++c) {
           std::int64_t q = 0;
-          if (!half_fixed_point(space.displacement_values[k * 3 + c], exponent, q)) return false;
-          out.values.push_back(zigzag(q - previous[c]));
-          previous[c] = q;
+          if (!half_fixed_point(space.displacement_values[entry[v] * 3 + c], exponent, q)) return false;
+          out.values.push_back(zigzag(q - previous[v * 3 + c]));
+          previous[v * 3 + c] = q;
         }
       }
     }
@@ -147,24 +146,18 @@ void decode_displacements(const DisplacementCodes& codes, long vertices, int exp
   space.displacement_values.clear();
   space.displacement_vertices.reserve(stored);
   space.displacement_values.reserve(3 * stored);
-  std::vector<std::uint16_t> node_values(static_cast<std::size_t>(frames * vertices * 3));  // [t][v][3]
+  std::vector<std::int64_t> q(static_cast<std::size_t>(vertices * 3));
   std::size_t at = 0;
   for (long r = 0; r < nodes; ++r) {
-    for (long v = 0; v < vertices; ++v) {
-      std::int64_t q[3] = {0, 0, 0};
-      for (long t = 0; t < frames; ++t) {
-        if (!((codes.masks[(r * vertices + v) * words + t / 32] >> (t % 32)) & 1)) continue;
-        for (int c = 0; c < 3; ++c) {
-          accumulate(q[c], codes.values[at++], source, what);
-          node_values[(t * vertices + v) * 3 + c] = core::float_to_half(from_fixed_point(q[c], exponent));
-        }
-      }
-    }
+    std::fill(q.begin(), q.end(), 0);
     for (long t = 0; t < frames; ++t) {
       for (long v = 0; v < vertices; ++v) {
         if (!((codes.masks[(r * vertices + v) * words + t / 32] >> (t % 32)) & 1)) continue;
         space.displacement_vertices.push_back(static_cast<std::int32_t>(v));
-        for (int c = 0; c < 3; ++c) space.displacement_values.push_back(node_values[(t * vertices + v) * 3 + c]);
+        for (int c = 0; c < 3; ++c) {
+          accumulate(q[v * 3 + c], codes.values[at++], source, what);
+          space.displacement_values.push_back(core::float_to_half(from_fixed_point(q[v * 3 + c], exponent)));
+        }
       }
       space.displacement_offsets.push_back(static_cast<std::int64_t>(space.displacement_vertices.size()));
     }

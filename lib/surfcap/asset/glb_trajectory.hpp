@@ -1,10 +1,9 @@
 #pragma once
 // Internal to asset/glb_extension_*.cpp: the compressed form's fixed-point trajectory coding of a
 // space's references and displacement fields (docs/formats.md "Trajectory coding"). Values become
-// integers q = round(value / 2^exponent), stored as zigzag-coded differences from the same
-// vertex's previous (stored) frame: the meshopt vertex codec predicts every element from the one
-// before, and frame differences of neighbouring vertices, or of one vertex's consecutive frames,
-// differ little in smooth motion.
+// integers q = round(value / 2^exponent), stored frame by frame as zigzag-coded differences from
+// the same vertex's previous (stored) frame: the meshopt vertex codec predicts every element from
+// the one before, and the frame differences of neighbouring vertices differ little.
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -29,9 +28,10 @@ std::vector<float> decode_references(const std::vector<std::uint32_t>& codes, lo
                                      long vertices, int exponent, const std::filesystem::path& source,
                                      const std::string& what);
 
-/// A space's displacement fields in trajectory order: `masks` [R][V][W] (W = ⌈T/32⌉ words; bit
-/// t % 32 of word t / 32 set when vertex v is stored at frame t of node r) and `values` [K][3]
-/// ordered by node, vertex, frame.
+/// A space's displacement fields: `masks` [R][V][W] (W = ⌈T/32⌉ words; bit t % 32 of word t / 32
+/// set when vertex v is stored at frame t of node r) and `values` [K][3] in row order (node,
+/// frame, then vertex ascending), each the difference from the vertex's previous stored frame at
+/// that node (from 0 at the first).
 struct DisplacementCodes {
   std::vector<std::uint32_t> masks;
   std::vector<std::uint32_t> values;
