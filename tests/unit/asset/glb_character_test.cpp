@@ -392,6 +392,16 @@ TEST(CharacterGlb, RefusesTruncatedCorruptAndNewerFiles) {
   space["referenceTrajectories"] = space["timeWarp"];  // an accessor of the wrong type and count
   write_and_read(with_json(glb, json), "wrong accessor shape");
   json = json_of(glb);
+  json["extensions"]["SURFCAP_motion_graph"]["spaces"][0].erase("referenceExponent");
+  write_and_read(with_json(glb, json), "trajectory codes without their step");
+  json = json_of(glb);
+  json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["displacements"]["valueExponent"] = 3;
+  write_and_read(with_json(glb, json), "a step above 1/2 m");
+  json = json_of(glb);
+  auto& fields = json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["displacements"];
+  fields["valueTrajectories"] = fields["frameMasks"];  // SCALAR, not VEC3
+  write_and_read(with_json(glb, json), "values of the wrong accessor type");
+  json = json_of(glb);
   json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["frames"] = 1000;
   write_and_read(with_json(glb, json), "frames disagreeing with the arrays");
   json = json_of(glb);
