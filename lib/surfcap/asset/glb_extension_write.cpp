@@ -75,8 +75,8 @@ core::Json displacements_json(GlbBuilder& builder, const CharacterSpace& space, 
   DisplacementCodes codes;
   const int exponent = builder.compressed() ? displacement_step_exponent(space.tolerance_mm) : 0;
   if (exponent != 0 && encode_displacements(space, vertices, exponent, codes)) {
-    // Trajectory coding (glb_trajectory.hpp): one frame mask per node and vertex, the values by
-    // node, vertex and frame as fixed-point differences.
+    // Trajectory coding (glb_trajectory.hpp): one frame mask per node and vertex, the values in
+    // row order as fixed-point differences from each vertex's previous stored frame.
     const int words = (space.frames + 31) / 32;
     json["valueExponent"] = exponent;
     json["frameMasks"] = builder.add_u32(codes.masks, "displacements", no_target, exact_codec(words <= 64 ? 4 * words : 4));
@@ -123,11 +123,12 @@ core::Json space_json(GlbBuilder& builder, const CharacterSpace& space, long ver
   const int reference_exponent = builder.compressed() ? reference_step_exponent(space.tolerance_mm) : 0;
   if (reference_exponent != 0 && encode_references(space.references, n, t, vertices, reference_exponent, codes)) {
     json["referenceExponent"] = reference_exponent;
-    json["referenceTrajectories"] = builder.add_accessor(codes.data(), codes.size() / 3, u32, TINYGLTF_TYPE_VEC3,
-                                                         "references", no_target, false, exact_codec(12));
+    put_accessor(json, "referenceTrajectories", builder.add_accessor(codes.data(), codes.size() / 3, u32,
+                                                                     TINYGLTF_TYPE_VEC3, "references", no_target,
+                                                                     false, exact_codec(12)));
   } else {
-    json["references"] = builder.add_floats(space.references, TINYGLTF_TYPE_VEC3, "references", no_target, false,
-                                            exact_codec(12));
+    put_accessor(json, "references", builder.add_floats(space.references, TINYGLTF_TYPE_VEC3, "references", no_target,
+                                                        false, exact_codec(12)));
   }
   put_accessor(json, "rootMotion", builder.add_floats(space.root_motion, TINYGLTF_TYPE_VEC4, "spaces", no_target, false,
                                                       exact_codec(16)));
