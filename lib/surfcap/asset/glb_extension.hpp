@@ -11,11 +11,6 @@
 namespace surfcap::asset::detail {
 
 inline constexpr const char* motion_graph_extension = "SURFCAP_motion_graph";
-/// The compressed form stores the spaces' references and displacement values as multiples of
-/// 2^stored_exponent m (≈ 15 µm; displacement values keep their float16 bits where those are
-/// coarser, so they read back as float16 exactly).
-inline constexpr int stored_exponent = -16;
-
 /// The integer JSON number object[key] within [min, max]; bad_input naming the file otherwise.
 using core::integer_field;
 

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "surfcap/asset/glb_extension.hpp"
+#include "surfcap/asset/glb_trajectory.hpp"
 #include "surfcap/blend/parameter_map_json.hpp"
 #include "surfcap/blend/stored_space.hpp"
 #include "surfcap/core/npy.hpp"
@@ -47,6 +48,18 @@ std::vector<int> checked_indices(const std::vector<std::uint32_t>& values, long 
 void read_displacements(const core::Json& json, const GlbAccessors& accessors, long vertices, CharacterSpace& space) {
   const auto& source = accessors.source();
   const std::string what = "space '" + space.name + "' displacements";
+  space.displacement_threshold_m = core::get_field<double>(json, "thresholdM", source);
+  if (json.contains("frameMasks")) {
+    const int exponent = static_cast<int>(integer_field(json, "valueExponent", source, -30, -1));
+    const long words = (space.frames + 31) / 32;
+    DisplacementCodes codes;
+    codes.masks = accessors.read<std::uint32_t>(
+        integer_field(json, "frameMasks", source), u32, TINYGLTF_TYPE_SCALAR,
+        shape(shape(space.node_count(), vertices, accessors, what), words, accessors, what), what + " frameMasks");
+    codes.values = read_optional<std::uint32_t>(accessors, json, "valueTrajectories", u32, TINYGLTF_TYPE_VEC3, -1, what);
+    decode_displacements(codes, vertices, exponent, space, source, what);
+    return;
+  }
   const long rows = shape(space.node_count(), space.frames, accessors, what);
   const auto offsets = accessors.read<std::uint32_t>(integer_field(json, "offsets", source), u32,
                                                      TINYGLTF_TYPE_SCALAR, rows + 1, what + " offsets");
@@ -71,7 +84,6 @@ void read_displacements(const core::Json& json, const GlbAccessors& accessors, l
   }
   for (const std::uint16_t half : space.displacement_values)
     if ((half & 0x7C00) == 0x7C00) throw core::bad_input(source, what + ": NaN or infinite float16 value");
-  space.displacement_threshold_m = core::get_field<double>(json, "thresholdM", source);
 }
 
 CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors, const Character& character) {
@@ -101,13 +113,22 @@ CharacterSpace read_space(const core::Json& json, const GlbAccessors& accessors,
   const long n = space.source_count(), nt = shape(n, space.frames, accessors, what);
   if (const int weights = optional_accessor(json, "nodeWeights", source); weights >= 0)
     accessors.read<float>(weights, f32, TINYGLTF_TYPE_SCALAR, shape(space.node_count(), n, accessors, what), what + " nodeWeights");
-  space.references = accessors.read<float>(integer_field(json, "references", source), f32, TINYGLTF_TYPE_VEC3,
-                                           shape(nt, character.vertex_count(), accessors, what), what + " references");
+  const long vertices = character.vertex_count();
+  if (json.contains("referenceTrajectories")) {  // the compressed form's trajectory coding (glb_trajectory.hpp)
+    const int exponent = static_cast<int>(integer_field(json, "referenceExponent", source, -30, -1));
+    space.references = decode_references(
+        accessors.read<std::uint32_t>(integer_field(json, "referenceTrajectories", source), u32, TINYGLTF_TYPE_VEC3,
+                                      shape(nt, vertices, accessors, what), what + " referenceTrajectories"),
+        n, space.frames, vertices, exponent, source, what + " referenceTrajectories");
+  } else {
+    space.references = accessors.read<float>(integer_field(json, "references", source), f32, TINYGLTF_TYPE_VEC3,
+                                             shape(nt, vertices, accessors, what), what + " references");
+  }
   space.root_motion = accessors.read<float>(integer_field(json, "rootMotion", source), f32, TINYGLTF_TYPE_VEC4, nt,
                                             what + " rootMotion");
   space.time_warp = accessors.read<float>(integer_field(json, "timeWarp", source), f32, TINYGLTF_TYPE_SCALAR, nt,
                                           what + " timeWarp");
-  read_displacements(core::get_field<core::Json>(json, "displacements", source), accessors, character.vertex_count(), space);
+  read_displacements(core::get_field<core::Json>(json, "displacements", source), accessors, vertices, space);
   if (json.contains("parameterMap")) space.parameter_map =
         blend::read_parameter_map(json["parameterMap"], source, blend::ParameterMapKeys::gltf, space.dimensions);
   space.tolerance_mm = core::get_field<double>(json, "toleranceMm", source);

@@ -6,6 +6,7 @@
 
 #include "surfcap/asset/glb_extension.hpp"
 #include "surfcap/asset/glb_morph.hpp"
+#include "surfcap/asset/glb_trajectory.hpp"
 #include "surfcap/core/npy.hpp"
 
 namespace surfcap::asset::detail {
@@ -70,24 +71,28 @@ core::Json displacements_json(GlbBuilder& builder, const CharacterSpace& space, 
   require(space.displacement_offsets.front() == 0 && space.displacement_offsets.back() == static_cast<long>(stored) &&
               space.displacement_values.size() == 3 * stored,
           "space '" + space.name + "' has inconsistent displacement arrays");
+  core::Json json = {{"thresholdM", space.displacement_threshold_m}};
+  DisplacementCodes codes;
+  const int exponent = builder.compressed() ? displacement_step_exponent(space.tolerance_mm) : 0;
+  if (exponent != 0 && encode_displacements(space, vertices, exponent, codes)) {
+    // Trajectory coding (glb_trajectory.hpp): one frame mask per node and vertex, the values in
+    // row order as fixed-point differences from each vertex's previous stored frame.
+    const int words = (space.frames + 31) / 32;
+    json["valueExponent"] = exponent;
+    json["frameMasks"] = builder.add_u32(codes.masks, "displacements", no_target, exact_codec(words <= 64 ? 4 * words : 4));
+    put_accessor(json, "valueTrajectories", builder.add_accessor(codes.values.data(), codes.values.size() / 3, u32,
+                                                                 TINYGLTF_TYPE_VEC3, "displacements", no_target, false,
+                                                                 exact_codec(12)));
+    return json;
+  }
   std::vector<std::uint32_t> offsets(rows + 1);
   for (std::size_t r = 0; r <= rows; ++r) offsets[r] = static_cast<std::uint32_t>(space.displacement_offsets[r]);
   std::vector<int> indices(space.displacement_vertices.begin(), space.displacement_vertices.end());
-  core::Json json = {{"thresholdM", space.displacement_threshold_m},
-                     {"offsets", builder.add_u32(offsets, "displacements", no_target, exact_codec(4))}};
+  json["offsets"] = builder.add_u32(offsets, "displacements", no_target, exact_codec(4));
   put_accessor(json, "vertices", builder.add_u32(unsigned_indices(indices, vertices, "displacements"), "displacements",
                                                 no_target, exact_codec(4)));
-  if (builder.compressed()) {
-    // Float VEC3 on the 2^stored_exponent grid (fixed point packs far tighter than float16 bits);
-    // every such value is a float16 again, so the reader restores the float16 layout.
-    std::vector<float> values(space.displacement_values.size());
-    for (std::size_t i = 0; i < values.size(); ++i) values[i] = core::half_to_float(space.displacement_values[i]);
-    put_accessor(json, "values", builder.add_floats(values, TINYGLTF_TYPE_VEC3, "displacements", no_target, false,
-                                                    rounded_codec(12, stored_exponent)));
-  } else {
-    put_accessor(json, "values", builder.add_accessor(space.displacement_values.data(), stored, u16,
-                                                      TINYGLTF_TYPE_VEC3, "displacements"));
-  }
+  put_accessor(json, "values", builder.add_accessor(space.displacement_values.data(), stored, u16,
+                                                    TINYGLTF_TYPE_VEC3, "displacements"));
   return json;
 }
 
@@ -112,8 +117,19 @@ core::Json space_json(GlbBuilder& builder, const CharacterSpace& space, long ver
   require(space.node_count() >= static_cast<long>(n), "space '" + space.name + "' lacks its corner nodes");
   put_accessor(json, "nodeWeights", builder.add_floats(node_weights(space), TINYGLTF_TYPE_SCALAR, "spaces", no_target,
                                                        false, exact_codec(4)));
-  put_accessor(json, "references", builder.add_floats(space.references, TINYGLTF_TYPE_VEC3, "references", no_target,
-                                                      false, rounded_codec(12, stored_exponent)));
+  // The compressed form codes references and displacement fields as fixed-point trajectories;
+  // arrays that do not fit 24 bits at their step stay plain and exact.
+  std::vector<std::uint32_t> codes;
+  const int reference_exponent = builder.compressed() ? reference_step_exponent(space.tolerance_mm) : 0;
+  if (reference_exponent != 0 && encode_references(space.references, n, t, vertices, reference_exponent, codes)) {
+    json["referenceExponent"] = reference_exponent;
+    put_accessor(json, "referenceTrajectories", builder.add_accessor(codes.data(), codes.size() / 3, u32,
+                                                                     TINYGLTF_TYPE_VEC3, "references", no_target,
+                                                                     false, exact_codec(12)));
+  } else {
+    put_accessor(json, "references", builder.add_floats(space.references, TINYGLTF_TYPE_VEC3, "references", no_target,
+                                                        false, exact_codec(12)));
+  }
   put_accessor(json, "rootMotion", builder.add_floats(space.root_motion, TINYGLTF_TYPE_VEC4, "spaces", no_target, false,
                                                       exact_codec(16)));
   put_accessor(json, "timeWarp", builder.add_floats(space.time_warp, TINYGLTF_TYPE_SCALAR, "spaces", no_target, false,

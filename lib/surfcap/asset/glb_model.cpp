@@ -61,32 +61,6 @@ std::string element_name(int component_type, int type) {
 
 }  // namespace
 
-bool round_to_exponent(std::vector<float>& values, int exponent) {
-  std::vector<float> rounded(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const double mantissa = std::nearbyint(std::ldexp(static_cast<double>(values[i]), -exponent));
-    if (!(std::abs(mantissa) < (1 << 23))) return false;  // 24-bit signed mantissa (NaN too)
-    rounded[i] = static_cast<float>(std::ldexp(mantissa, exponent));
-  }
-  values.swap(rounded);
-  return true;
-}
-
-namespace {
-/// The EXPONENTIAL filter's encoding with one exponent: mantissa in the low 24 bits, exponent in
-/// the high 8 (EXT_meshopt_compression: value = mantissa · 2^exponent).
-void encode_exponent(unsigned char* data, std::size_t floats, int exponent) {
-  for (std::size_t i = 0; i < floats; ++i) {
-    float value;
-    std::memcpy(&value, data + 4 * i, 4);
-    const auto mantissa = static_cast<std::int32_t>(std::nearbyint(std::ldexp(static_cast<double>(value), -exponent)));
-    const std::uint32_t encoded = (static_cast<std::uint32_t>(mantissa) & 0xFFFFFFu) |
-                                  (static_cast<std::uint32_t>(exponent) << 24);
-    std::memcpy(data + 4 * i, &encoded, 4);
-  }
-}
-}  // namespace
-
 GlbBuilder::GlbBuilder(const std::string& generator, bool compress) : compress_(compress) {
   model.asset.version = "2.0";
   model.asset.generator = generator;
@@ -109,11 +83,10 @@ int GlbBuilder::add_view(const void* bytes, std::size_t size, const std::string&
     const std::size_t stride = codec.stride, count = (size + stride - 1) / stride;
     std::vector<unsigned char> data(count * stride, 0);
     std::memcpy(data.data(), begin, size);
-    if (codec.rounded) encode_exponent(data.data(), data.size() / 4, codec.exponent);  // rounded by add_floats
     std::vector<unsigned char> encoded(meshopt_encodeVertexBufferBound(count, stride));
     encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), data.data(), count, stride));
     fallback_bytes_ = (fallback_bytes_ + 3) / 4 * 4;
-    compressed_[index] = {fallback_bytes_, count * stride, bin_.size(), encoded.size(), codec.stride, codec.rounded};
+    compressed_[index] = {fallback_bytes_, count * stride, bin_.size(), encoded.size(), codec.stride};
     fallback_bytes_ += count * stride;
     view.byteLength = count * stride;
     bin_.insert(bin_.end(), encoded.begin(), encoded.end());
@@ -141,20 +114,33 @@ int GlbBuilder::add_accessor(const void* data, std::size_t count, int component_
   return static_cast<int>(model.accessors.size()) - 1;
 }
 
-int GlbBuilder::add_normalized_shorts(const std::vector<std::int16_t>& xyz, const std::string& kind) {
-  const std::size_t count = xyz.size() / 3;
-  if (count == 0) return -1;
-  std::vector<std::int16_t> padded(count * 4, 0);  // vertex attribute elements are 4-byte aligned
-  tinygltf::Accessor accessor;
+namespace {
+/// The bounds and 4-byte padded elements of a normalized integer VEC3 vertex attribute.
+template <class Integer>
+std::vector<Integer> padded_vec3(const std::vector<Integer>& xyz, tinygltf::Accessor& accessor) {
+  const std::size_t count = xyz.size() / 3, lanes = 4;
+  std::vector<Integer> padded(count * lanes, 0);  // vertex attribute elements are 4-byte aligned
   accessor.minValues.assign(3, std::numeric_limits<double>::infinity());
   accessor.maxValues.assign(3, -std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < xyz.size(); ++i) {
-    padded[i / 3 * 4 + i % 3] = xyz[i];
+    padded[i / 3 * lanes + i % 3] = xyz[i];
     accessor.minValues[i % 3] = std::min<double>(accessor.minValues[i % 3], xyz[i]);
     accessor.maxValues[i % 3] = std::max<double>(accessor.maxValues[i % 3], xyz[i]);
   }
-  accessor.bufferView = add_view(padded.data(), padded.size() * 2, kind, vertex_data, {8, 0}, 8);
-  accessor.componentType = i16;
+  return padded;
+}
+}  // namespace
+
+template <class Integer>
+int GlbBuilder::add_normalized(const std::vector<Integer>& xyz, const std::string& kind) {
+  static_assert(sizeof(Integer) == 1 || sizeof(Integer) == 2);
+  const std::size_t count = xyz.size() / 3;
+  if (count == 0) return -1;
+  tinygltf::Accessor accessor;
+  const std::vector<Integer> padded = padded_vec3(xyz, accessor);
+  const int stride = static_cast<int>(padded.size() / count * sizeof(Integer));
+  accessor.bufferView = add_view(padded.data(), padded.size() * sizeof(Integer), kind, vertex_data, exact_codec(stride), stride);
+  accessor.componentType = sizeof(Integer) == 1 ? TINYGLTF_COMPONENT_TYPE_BYTE : i16;
   accessor.type = TINYGLTF_TYPE_VEC3;
   accessor.count = count;
   accessor.normalized = true;
@@ -162,14 +148,13 @@ int GlbBuilder::add_normalized_shorts(const std::vector<std::int16_t>& xyz, cons
   model.accessors.push_back(accessor);
   return static_cast<int>(model.accessors.size()) - 1;
 }
+template int GlbBuilder::add_normalized(const std::vector<std::int8_t>&, const std::string&);
+template int GlbBuilder::add_normalized(const std::vector<std::int16_t>&, const std::string&);
 
-int GlbBuilder::add_floats(std::vector<float> values, int type, const std::string& kind, int target, bool bounds,
-                           ViewCodec codec, std::vector<float>* stored) {
+int GlbBuilder::add_floats(const std::vector<float>& values, int type, const std::string& kind, int target,
+                           bool bounds, ViewCodec codec) {
   const int components = components_of(type);
-  if (codec.rounded && !(compress_ && values.size() * 4 >= 256 && round_to_exponent(values, codec.exponent)))
-    codec.rounded = false;  // stored exactly: uncompressed form, a small view, or values too large
   const int index = add_accessor(values.data(), values.size() / components, f32, type, kind, target, false, codec);
-  if (stored) *stored = values;
   if (index >= 0 && bounds) {
     auto& accessor = model.accessors[index];
     accessor.minValues.assign(components, std::numeric_limits<double>::infinity());
@@ -209,7 +194,6 @@ std::string GlbBuilder::finish(const core::Json& extensions) {
       view["byteLength"] = c.size;
       core::Json codec = {{"buffer", 0}, {"byteOffset", c.bin_offset}, {"byteLength", c.bin_size},
                           {"byteStride", c.stride}, {"count", c.size / c.stride}, {"mode", "ATTRIBUTES"}};
-      if (c.exponential) codec["filter"] = "EXPONENTIAL";
       view["extensions"][meshopt_extension] = codec;
     }
     json["extensionsUsed"].push_back(meshopt_extension);

@@ -28,20 +28,14 @@ enum : int { i16 = 5122 };
 inline constexpr const char* meshopt_extension = "EXT_meshopt_compression";
 inline constexpr const char* quantization_extension = "KHR_mesh_quantization";
 
-/// How a bufferView travels in the compressed form (EXT_meshopt_compression, mode ATTRIBUTES):
-/// its bytes as elements of `stride` bytes (a multiple of 4; 0: stored as is). With `rounded`,
-/// float32 data is first rounded to multiples of 2^`exponent` and stored by the EXPONENTIAL
-/// filter with that one exponent for every value (fixed point: neighbouring values differ in few
-/// bytes, which the codec packs tightly); lossy by at most 2^(exponent−1).
+/// How a bufferView travels in the compressed form (EXT_meshopt_compression, mode ATTRIBUTES,
+/// no filter): its bytes as elements of `stride` bytes (a multiple of 4; 0: stored as is),
+/// losslessly.
 struct ViewCodec {
   int stride = 0;
-  bool rounded = false;
-  int exponent = 0;
 };
 /// Lossless compression of elements of `bytes` bytes (a multiple of 4).
-inline ViewCodec exact_codec(int bytes) { return {bytes, false, 0}; }
-/// Float data of elements of `bytes` bytes rounded to multiples of 2^exponent.
-inline ViewCodec rounded_codec(int bytes, int exponent) { return {bytes, true, exponent}; }
+inline ViewCodec exact_codec(int bytes) { return {bytes}; }
 
 /// The model under construction: one buffer (the GLB BIN chunk), one bufferView per accessor,
 /// 4-byte aligned; bytes are tallied per content kind for the export report. With `compress`,
@@ -63,18 +57,17 @@ class GlbBuilder {
   int add_accessor(const void* data, std::size_t count, int component_type, int type, const std::string& kind,
                    int target = no_target, bool normalized = false, ViewCodec codec = {});
   /// Float accessor with per-component min/max (required for POSITION and animation inputs).
-  /// With a rounded codec in the compressed form, `values` are rounded first (the bounds are
-  /// those of the rounded values, what a reader decodes); returns the accessor and leaves the
-  /// stored values in `*stored` when given.
-  int add_floats(std::vector<float> values, int type, const std::string& kind, int target = no_target,
-                 bool bounds = false, ViewCodec codec = {}, std::vector<float>* stored = nullptr);
+  int add_floats(const std::vector<float>& values, int type, const std::string& kind, int target = no_target,
+                 bool bounds = false, ViewCodec codec = {});
   int add_u32(const std::vector<std::uint32_t>& values, const std::string& kind, int target = no_target,
               ViewCodec codec = {}) {
     return add_accessor(values.data(), values.size(), u32, TINYGLTF_TYPE_SCALAR, kind, target, false, codec);
   }
-  /// VEC3 of normalized SHORT (KHR_mesh_quantization) in a view of byteStride 8, with min/max
-  /// (integer domain, as glTF requires): morph-target deltas within [−1, 1].
-  int add_normalized_shorts(const std::vector<std::int16_t>& xyz, const std::string& kind);
+  /// VEC3 of normalized SHORT or BYTE (KHR_mesh_quantization: int16_t / int8_t) in a view of
+  /// byteStride 8 / 4, with min/max (integer domain, as glTF requires): morph-target deltas
+  /// within [−1, 1].
+  template <class Integer>
+  int add_normalized(const std::vector<Integer>& xyz, const std::string& kind);
 
   /// The GLB bytes: tinygltf serialises the standard glTF JSON, `extensions` (name → object,
   /// exact nlohmann JSON: tinygltf::Value drops nulls and empty arrays) is spliced in.
@@ -86,7 +79,6 @@ class GlbBuilder {
   struct Compressed {
     std::size_t fallback_offset, size, bin_offset, bin_size;
     int stride;
-    bool exponential;
   };
   bool compress_ = false;
   bool quantised_ = false;
@@ -95,10 +87,6 @@ class GlbBuilder {
   std::map<int, Compressed> compressed_;  ///< by bufferView
   std::map<std::string, std::size_t> bytes_by_kind_;
 };
-
-/// `values` rounded to multiples of 2^exponent (idempotent); false (values unchanged) when one
-/// would need more than the EXPONENTIAL filter's 24-bit mantissa.
-bool round_to_exponent(std::vector<float>& values, int exponent);
 
 /// Components per element of a TINYGLTF_TYPE_* (1 for SCALAR ... 16 for MAT4).
 int components_of(int type);

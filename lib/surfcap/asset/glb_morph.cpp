@@ -129,10 +129,21 @@ int add_position_delta(GlbBuilder& builder, std::vector<float>& delta) {
     }
     if (fits) {
       for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = quantised[i] / 32767.0f;  // glTF: c / 32767
-      return builder.add_normalized_shorts(quantised, "morph_targets");
+      return builder.add_normalized(quantised, "morph_targets");
     }
   }
   return builder.add_floats(delta, TINYGLTF_TYPE_VEC3, "morph_targets", vertex_data, true, exact_codec(12));
+}
+
+/// The NORMAL accessor of one target: float, or in the compressed form normalized BYTE
+/// (KHR_mesh_quantization, c / 127) clamped to [−1, 1] (normal deltas reach 2 where a normal
+/// turns by more than 60°; shading only, no reader restores them).
+int add_normal_delta(GlbBuilder& builder, const std::vector<float>& delta) {
+  if (!builder.compressed()) return builder.add_floats(delta, TINYGLTF_TYPE_VEC3, "morph_normals", vertex_data);
+  std::vector<std::int8_t> quantised(delta.size());
+  for (std::size_t i = 0; i < delta.size(); ++i)
+    quantised[i] = static_cast<std::int8_t>(std::lround(std::clamp(delta[i], -1.0f, 1.0f) * 127.0f));
+  return builder.add_normalized(quantised, "morph_normals");
 }
 
 }  // namespace
@@ -159,8 +170,7 @@ int add_morph_targets(GlbBuilder& builder, int mesh, const core::Mesh& template_
     // Normals of the frame a viewer shows (the stored one), so a rewrite gives the same bytes.
     const std::vector<float> normals = unit_normals(stored, template_mesh.F);
     for (std::size_t i = 0; i < base.size(); ++i) normal_delta[i] = normals[i] - base_normals[i];
-    const int normal = builder.add_floats(normal_delta, TINYGLTF_TYPE_VEC3, "morph_normals", vertex_data, false,
-                                          rounded_codec(12, normal_delta_exponent));
+    const int normal = add_normal_delta(builder, normal_delta);
     targets.push_back({{"POSITION", position}, {"NORMAL", normal}});
     char number[24];
     std::snprintf(number, sizeof number, "%04zu", t);

@@ -41,8 +41,6 @@ struct TargetCorrections {
 /// The largest |component| of a morph-target delta stored as normalized SHORT (KHR_mesh_quantization)
 /// in the compressed form, in units of 1/32767 m; larger deltas stay float.
 inline constexpr int max_quantised_delta = 32000;
-/// The NORMAL deltas of the compressed form are multiples of 2^normal_delta_exponent.
-inline constexpr int normal_delta_exponent = -12;
 
 /// Appends one morph target per frame to mesh `mesh` — POSITION = frame − template (float32, or
 /// in the compressed form normalized SHORT rounded to 1/32767 m) and NORMAL = normals of the

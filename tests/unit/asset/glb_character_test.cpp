@@ -195,16 +195,25 @@ TEST(CharacterGlb, CompressedFormIsSmallerAndWithinItsRounding) {
   for (std::size_t s = 0; s < character.sequences.size(); ++s)
     for (int t = 0; t < character.sequences[s].frame_count(); ++t)
       EXPECT_LE((read.sequences[s].frames[t] - character.sequences[s].frames[t]).cwiseAbs().maxCoeff(), 0.5 / 32767 + 1e-6);
-  // References and displacement values: multiples of 2^-16 m (displacements stay float16 values).
+  // Morph normals: normalized BYTE.
+  EXPECT_EQ(json["accessors"][target["NORMAL"].get<int>()]["componentType"], 5120);
+  // References and displacement values: trajectory-coded multiples of 2^-16 m and 2^-13 m
+  // (ε = 5 mm: ε/256 and ε/32; displacements stay float16 values).
   auto halves = [](const std::vector<std::uint16_t>& bits) {
     std::vector<float> values;
     for (const auto half : bits) values.push_back(core::half_to_float(half));
     return values;
   };
   for (std::size_t s = 0; s < character.spaces.size(); ++s) {
+    const core::Json& space = json["extensions"]["SURFCAP_motion_graph"]["spaces"][s];
+    EXPECT_EQ(space["referenceExponent"], -16);
+    EXPECT_EQ(space["displacements"]["valueExponent"], -13);
+    EXPECT_FALSE(space.contains("references"));
+    EXPECT_FALSE(space["displacements"].contains("offsets"));
     EXPECT_LE(max_difference(read.spaces[s].references, character.spaces[s].references), std::ldexp(1.0, -17));
     EXPECT_LE(max_difference(halves(read.spaces[s].displacement_values), halves(character.spaces[s].displacement_values)),
-              std::ldexp(1.0, -17));
+              std::ldexp(1.0, -14));
+    EXPECT_EQ(read.spaces[s].displacement_offsets, character.spaces[s].displacement_offsets);
     EXPECT_EQ(read.spaces[s].displacement_vertices, character.spaces[s].displacement_vertices);
     EXPECT_EQ(read.spaces[s].time_warp, character.spaces[s].time_warp);
   }
@@ -380,8 +389,18 @@ TEST(CharacterGlb, RefusesTruncatedCorruptAndNewerFiles) {
   write_and_read(with_json(glb, json), "newer version");
   json = json_of(glb);
   auto& space = json["extensions"]["SURFCAP_motion_graph"]["spaces"][0];
-  space["references"] = space["timeWarp"];  // an accessor of the wrong type and count
+  space["referenceTrajectories"] = space["timeWarp"];  // an accessor of the wrong type and count
   write_and_read(with_json(glb, json), "wrong accessor shape");
+  json = json_of(glb);
+  json["extensions"]["SURFCAP_motion_graph"]["spaces"][0].erase("referenceExponent");
+  write_and_read(with_json(glb, json), "trajectory codes without their step");
+  json = json_of(glb);
+  json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["displacements"]["valueExponent"] = 3;
+  write_and_read(with_json(glb, json), "a step above 1/2 m");
+  json = json_of(glb);
+  auto& fields = json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["displacements"];
+  fields["valueTrajectories"] = fields["frameMasks"];  // SCALAR, not VEC3
+  write_and_read(with_json(glb, json), "values of the wrong accessor type");
   json = json_of(glb);
   json["extensions"]["SURFCAP_motion_graph"]["spaces"][0]["frames"] = 1000;
   write_and_read(with_json(glb, json), "frames disagreeing with the arrays");
