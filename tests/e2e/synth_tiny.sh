@@ -11,12 +11,7 @@ mkdir -p "$work"
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-start=$(date +%s%N)
 "$synth" --preset tiny --out "$work/a" --threads 2 --log-level warn
-elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
-echo "tiny preset generated in ${elapsed_ms} ms"
-# Loose bound: the CI machine is shared; ground_truth/report.json and the benchmark track the time.
-[ "$elapsed_ms" -lt 60000 ] || fail "tiny preset took ${elapsed_ms} ms"
 
 for f in capture.json cameras.json ground_truth/truth.json ground_truth/report.json ground_truth/contact_sheet.png \
          ground_truth/database/database.json ground_truth/database/template.ply ground_truth/template_rest.ply; do
