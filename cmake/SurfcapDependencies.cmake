@@ -14,7 +14,8 @@ find_path(TETGEN_INCLUDE_DIR tetgen.h REQUIRED)
 find_library(TETGEN_LIBRARY tet REQUIRED)
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
-# EXT_meshopt_compression of character.glb (asset/glb_model.cpp, asset/glb_meshopt.cpp).
+# EXT_meshopt_compression of character.glb (asset/glb_model.cpp, asset/glb_meshopt.cpp) and its
+# vertex order (asset/vertex_order.cpp).
 # The library itself, not its CMake target: the target defines MESHOPTIMIZER_API for every file.
 find_path(MESHOPTIMIZER_INCLUDE_DIR meshoptimizer.h REQUIRED)
 find_library(MESHOPTIMIZER_LIBRARY meshoptimizer REQUIRED)

@@ -16,7 +16,7 @@
 namespace surfcap::asset {
 
 /// Version of SURFCAP_motion_graph this build writes and the newest it reads.
-inline constexpr int motion_graph_extension_version = 3;
+inline constexpr int motion_graph_extension_version = 4;
 
 struct GlbWriteOptions {
   std::string generator;  ///< asset.generator; empty: "surfcap <version>"

@@ -1,5 +1,6 @@
 // Reading the SURFCAP_motion_graph extension (docs/formats.md): every accessor's type and count
 // is checked against the shape its metadata implies, every index against its range.
+#include <algorithm>
 #include <limits>
 
 #include "surfcap/asset/glb_extension.hpp"
@@ -200,10 +201,23 @@ void read_parts(const core::Json& extension, const GlbAccessors& accessors, Char
     const long kept = integer_field(p, "kept", source);
     const auto mean = accessors.read<float>(integer_field(p, "mean", source), f32, TINYGLTF_TYPE_SCALAR, values, what + " mean");
     part.mean = Eigen::Map<const Eigen::VectorXf>(mean.data(), values).cast<double>();
-    const auto basis = read_optional<float>(accessors, p, "basis", f32, TINYGLTF_TYPE_SCALAR, shape(values, kept, accessors, what), what);
-    part.basis.resize(values, kept);
-    for (long r = 0; r < values; ++r)
-      for (long c = 0; c < kept; ++c) part.basis(r, c) = basis[r * kept + c];
+    if (p.contains("basisExponents")) {  // the compressed form (glb_trajectory.hpp)
+      const core::Json& list = p["basisExponents"];
+      if (!list.is_array() || static_cast<long>(list.size()) != kept)
+        throw core::bad_input(source, what + ": basisExponents is not one exponent per kept component");
+      std::vector<int> exponents;
+      for (const core::Json& e : list)
+        exponents.push_back(static_cast<int>(std::clamp<long>(core::checked_integer(e, what + " basis exponent", source), -99, 99)));
+      const auto codes = read_optional<std::int16_t>(accessors, p, "basis", i16, TINYGLTF_TYPE_VEC4,
+                                                     shape(values / 3, kept, accessors, what), what);
+      part.basis = dequantise_basis(codes, exponents, values, source, what);
+    } else {
+      const auto basis = read_optional<float>(accessors, p, "basis", f32, TINYGLTF_TYPE_SCALAR,
+                                              shape(values, kept, accessors, what), what);
+      part.basis.resize(values, kept);
+      for (long r = 0; r < values; ++r)
+        for (long c = 0; c < kept; ++c) part.basis(r, c) = basis[r * kept + c];
+    }
     part.energy = core::get_field<double>(p, "energy", source);
     const auto singular = p.value("singularValues", std::vector<double>{});
     part.singular_values = Eigen::Map<const Eigen::VectorXd>(singular.data(), static_cast<long>(singular.size()));

@@ -182,8 +182,15 @@ core::Json parts_json(GlbBuilder& builder, const Character& character) {
     std::vector<float> mean(p.mean.size());
     for (long i = 0; i < p.mean.size(); ++i) mean[i] = static_cast<float>(p.mean(i));
     put_accessor(part, "mean", builder.add_floats(mean, TINYGLTF_TYPE_SCALAR, "parts", no_target, false, exact_codec(4)));
-    put_accessor(part, "basis", builder.add_floats(row_major_floats(p.basis), TINYGLTF_TYPE_SCALAR, "parts", no_target,
-                                                   false, exact_codec(4)));
+    if (builder.compressed()) {
+      const QuantisedBasis quantised = quantise_basis(p.basis);
+      put_accessor(part, "basis", builder.add_accessor(quantised.codes.data(), quantised.codes.size() / 4, i16,
+                                                       TINYGLTF_TYPE_VEC4, "parts", no_target, false, exact_codec(8)));
+      part["basisExponents"] = quantised.exponents;
+    } else {
+      put_accessor(part, "basis", builder.add_floats(row_major_floats(p.basis), TINYGLTF_TYPE_SCALAR, "parts",
+                                                     no_target, false, exact_codec(4)));
+    }
     json["parts"].push_back(part);
   }
   for (const auto& [name, region] : model.regions) {

@@ -79,12 +79,30 @@ int add_material(GlbBuilder& builder, const std::vector<std::uint8_t>& texture_p
 
 }  // namespace
 
+double morph_position_scale(const GlbBuilder& builder, const core::Mesh& template_mesh,
+                            const std::vector<const Eigen::MatrixXd*>& frames) {
+  if (!builder.compressed()) return 1;
+  const std::vector<float> base = row_major_floats(template_mesh.V);
+  float largest = 0;
+  for (const Eigen::MatrixXd* frame : frames) {
+    const std::vector<float> values = row_major_floats(*frame);
+    for (std::size_t i = 0; i < base.size() && i < values.size(); ++i)
+      largest = std::max(largest, std::abs(values[i] - base[i]));
+  }
+  double scale = 1;
+  for (int e = 0; e < max_position_scale_exponent && std::lround(largest / scale * 32767.0) > max_quantised_delta; ++e)
+    scale *= 2;
+  return scale;
+}
+
 int add_template_mesh(GlbBuilder& builder, const core::Mesh& mesh, const std::vector<std::uint8_t>& texture_png,
-                      const std::string& name, std::vector<float>* exact_colors) {
+                      const std::string& name, std::vector<float>* exact_colors, double position_scale) {
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   const std::vector<float> positions = row_major_floats(mesh.V);
-  primitive.attributes["POSITION"] = builder.add_floats(positions, TINYGLTF_TYPE_VEC3, "template", vertex_data, true);
+  std::vector<float> local = positions;
+  for (float& x : local) x = static_cast<float>(x / position_scale);  // a power of two: exact
+  primitive.attributes["POSITION"] = builder.add_floats(local, TINYGLTF_TYPE_VEC3, "template", vertex_data, true);
   primitive.attributes["NORMAL"] = builder.add_floats(unit_normals(positions, mesh.F), TINYGLTF_TYPE_VEC3, "template",
                                                       vertex_data);
   std::vector<std::uint32_t> indices(static_cast<std::size_t>(mesh.F.size()));
@@ -106,6 +124,7 @@ int add_template_mesh(GlbBuilder& builder, const core::Mesh& mesh, const std::ve
   tinygltf::Node node;
   node.name = name;
   node.mesh = static_cast<int>(builder.model.meshes.size()) - 1;
+  if (position_scale != 1) node.scale = {position_scale, position_scale, position_scale};
   builder.model.nodes.push_back(node);
   tinygltf::Scene scene;
   scene.name = name;
@@ -117,22 +136,25 @@ int add_template_mesh(GlbBuilder& builder, const core::Mesh& mesh, const std::ve
 
 namespace {
 
-/// The POSITION accessor of one target; `delta` becomes what a reader decodes.
-int add_position_delta(GlbBuilder& builder, std::vector<float>& delta) {
+/// The POSITION accessor of one target (world deltas; stored in node units, / `scale`); `delta`
+/// becomes what a reader decodes.
+int add_position_delta(GlbBuilder& builder, std::vector<float>& delta, double scale) {
   if (builder.compressed()) {
     std::vector<std::int16_t> quantised(delta.size());
     bool fits = true;
     for (std::size_t i = 0; i < delta.size() && fits; ++i) {
-      const long q = std::lround(delta[i] * 32767.0f);
+      const long q = std::lround(static_cast<float>(delta[i] / scale) * 32767.0f);
       fits = std::abs(q) <= max_quantised_delta;
       quantised[i] = static_cast<std::int16_t>(q);
     }
-    if (fits) {
-      for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = quantised[i] / 32767.0f;  // glTF: c / 32767
+    if (fits) {  // glTF: c / 32767 node units; × S exact (a power of two)
+      for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = static_cast<float>(quantised[i] / 32767.0f * scale);
       return builder.add_normalized(quantised, "morph_targets");
     }
   }
-  return builder.add_floats(delta, TINYGLTF_TYPE_VEC3, "morph_targets", vertex_data, true, exact_codec(12));
+  std::vector<float> local = delta;
+  for (float& x : local) x = static_cast<float>(x / scale);
+  return builder.add_floats(local, TINYGLTF_TYPE_VEC3, "morph_targets", vertex_data, true, exact_codec(12));
 }
 
 /// The NORMAL accessor of one target: float, or in the compressed form normalized BYTE
@@ -150,7 +172,7 @@ int add_normal_delta(GlbBuilder& builder, const std::vector<float>& delta) {
 
 int add_morph_targets(GlbBuilder& builder, int mesh, const core::Mesh& template_mesh,
                       const std::vector<Eigen::MatrixXd>& frames, const std::string& prefix,
-                      std::vector<std::string>& names, TargetCorrections* corrections) {
+                      std::vector<std::string>& names, TargetCorrections* corrections, double position_scale) {
   auto& targets = builder.model.meshes[mesh].primitives[0].targets;
   const int first = static_cast<int>(targets.size());
   const std::vector<float> base = row_major_floats(template_mesh.V);
@@ -159,7 +181,7 @@ int add_morph_targets(GlbBuilder& builder, int mesh, const core::Mesh& template_
   for (std::size_t t = 0; t < frames.size(); ++t) {
     const std::vector<float> frame = row_major_floats(frames[t]);
     for (std::size_t i = 0; i < base.size(); ++i) delta[i] = frame[i] - base[i];
-    const int position = add_position_delta(builder, delta);
+    const int position = add_position_delta(builder, delta, position_scale);
     for (std::size_t i = 0; i < base.size(); ++i) {
       stored[i] = base[i] + delta[i];  // float32 sum, as viewers and the reader
       if (corrections && !builder.compressed() && stored[i] != frame[i]) {

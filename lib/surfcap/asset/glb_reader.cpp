@@ -9,6 +9,7 @@
 #include "surfcap/asset/glb_extension.hpp"
 #include "surfcap/asset/glb_meshopt.hpp"
 #include "surfcap/asset/glb_morph.hpp"
+#include "surfcap/asset/vertex_order.hpp"
 #include "surfcap/core/input_policy.hpp"
 #include "surfcap/core/atomic_file.hpp"
 
@@ -65,14 +66,31 @@ Eigen::MatrixXd linear_color_0(const GlbAccessors& accessors, int index, long ve
   return colors;
 }
 
+/// The template node's scale S (glb_morph.hpp add_template_mesh): 1, or a uniform power of two
+/// in [2, 2^8] by which POSITION and the morph targets are multiplied.
+double node_scale(const tinygltf::Model& model, const core::Json& extension, const std::filesystem::path& source) {
+  const long node = extension.contains("node") ? integer_field(extension, "node", source) : 0;
+  if (node < 0 || node >= static_cast<long>(model.nodes.size()))
+    throw core::bad_input(source, "the extension's node does not exist");
+  const std::vector<double>& scale = model.nodes[static_cast<std::size_t>(node)].scale;
+  if (scale.empty()) return 1;
+  int exponent = 0;
+  const bool power_of_two = scale.size() == 3 && std::frexp(scale[0], &exponent) == 0.5;
+  if (!power_of_two || scale[1] != scale[0] || scale[2] != scale[0] || exponent < 1 ||
+      exponent > max_position_scale_exponent + 1)
+    throw core::bad_input(source, "the template node's scale is not a uniform power of two in [1, 256]");
+  return scale[0];
+}
+
 void read_template(const tinygltf::Model& model, const GlbAccessors& accessors, const core::Json& extension,
-                   int version, Character& character) {
+                   int version, double scale, Character& character) {
   const auto& source = accessors.source();
   const tinygltf::Primitive& primitive = template_primitive(model, integer_field(extension, "mesh", source), source);
   core::Mesh& mesh = character.template_mesh;
   const int position = primitive.attributes.at("POSITION");
   const long vertices = accessors.count(position, "template POSITION");
-  mesh.V = matrix_of(accessors.read<float>(position, f32, TINYGLTF_TYPE_VEC3, vertices, "template POSITION"), vertices, 3);
+  mesh.V = matrix_of(accessors.read<float>(position, f32, TINYGLTF_TYPE_VEC3, vertices, "template POSITION"), vertices, 3) *
+           scale;
   const std::vector<std::uint32_t> indices =
       accessors.read<std::uint32_t>(primitive.indices, u32, TINYGLTF_TYPE_SCALAR, -1, "template indices");
   if (indices.size() % 3 != 0) throw core::bad_input(source, "template indices are not whole triangles");
@@ -99,19 +117,25 @@ void read_template(const tinygltf::Model& model, const GlbAccessors& accessors, 
   core::validate_mesh(mesh, lenient, source);
 }
 
-/// A morph target's POSITION: float, or normalized SHORT (KHR_mesh_quantization, c / 32767).
-std::vector<float> position_delta(const GlbAccessors& accessors, int index, long vertices, const std::string& what) {
-  if (accessors.accessor(index, what).componentType != i16)
-    return accessors.read<float>(index, f32, TINYGLTF_TYPE_VEC3, vertices, what);
-  const auto quantised = accessors.read<std::int16_t>(index, i16, TINYGLTF_TYPE_VEC3, vertices, what, true);
-  std::vector<float> delta(quantised.size());
-  for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = std::max(quantised[i] / 32767.0f, -1.0f);
+/// A morph target's POSITION: float, or normalized SHORT (KHR_mesh_quantization, c / 32767),
+/// times the node scale.
+std::vector<float> position_delta(const GlbAccessors& accessors, int index, long vertices, double scale,
+                                  const std::string& what) {
+  std::vector<float> delta;
+  if (accessors.accessor(index, what).componentType != i16) {
+    delta = accessors.read<float>(index, f32, TINYGLTF_TYPE_VEC3, vertices, what);
+  } else {
+    const auto quantised = accessors.read<std::int16_t>(index, i16, TINYGLTF_TYPE_VEC3, vertices, what, true);
+    delta.resize(quantised.size());
+    for (std::size_t i = 0; i < delta.size(); ++i) delta[i] = std::max(quantised[i] / 32767.0f, -1.0f);
+  }
+  for (float& x : delta) x = static_cast<float>(x * scale);
   return delta;
 }
 
 /// Frames = template + morph target in float32, then the exact corrections (glb_morph.hpp).
 void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& accessors, const core::Json& entry,
-                   const std::vector<float>& base, Character& character) {
+                   const std::vector<float>& base, double scale, Character& character) {
   const auto& source = accessors.source();
   core::AlignedSequence sequence;
   sequence.name = core::get_field<std::string>(entry, "name", source);
@@ -123,7 +147,7 @@ void read_sequence(const tinygltf::Primitive& primitive, const GlbAccessors& acc
     const auto& target = primitive.targets[first + t];
     const auto it = target.find("POSITION");
     if (it == target.end()) throw core::bad_input(source, "a morph target of '" + sequence.name + "' has no POSITION");
-    const auto delta = position_delta(accessors, it->second, vertices, "morph target of '" + sequence.name + "'");
+    const auto delta = position_delta(accessors, it->second, vertices, scale, "morph target of '" + sequence.name + "'");
     Eigen::MatrixXd frame(vertices, 3);
     for (long v = 0; v < vertices; ++v)
       for (int k = 0; k < 3; ++k) frame(v, k) = base[v * 3 + k] + delta[v * 3 + k];  // float32 sum, as viewers
@@ -161,16 +185,24 @@ Character read_character(const tinygltf::Model& model, const GlbAccessors& acces
     throw core::bad_input(source, "fps must be in (0, " + std::to_string(static_cast<int>(core::kMaxFps)) + "]");
   character.units = extension.value("units", std::string("m"));
   if (extension.contains("provenance")) character.provenance = extension["provenance"];
-  read_template(model, accessors, extension, version, character);
+  const double scale = node_scale(model, extension, source);
+  read_template(model, accessors, extension, version, scale, character);
   const tinygltf::Primitive& primitive = template_primitive(model, integer_field(extension, "mesh", source), source);
   std::vector<float> base(static_cast<std::size_t>(character.template_mesh.V.size()));
   for (long v = 0; v < character.vertex_count(); ++v)
     for (int k = 0; k < 3; ++k) base[v * 3 + k] = static_cast<float>(character.template_mesh.V(v, k));
   if (extension.contains("sequences"))
-    for (const core::Json& entry : extension["sequences"]) read_sequence(primitive, accessors, entry, base, character);
+    for (const core::Json& entry : extension["sequences"])
+      read_sequence(primitive, accessors, entry, base, scale, character);
   read_spaces(extension, accessors, character);
   read_transitions(extension, accessors, character);
   read_parts(extension, accessors, character);
+  if (const long order = extension.contains("vertexOrder") ? integer_field(extension, "vertexOrder", source) : -1; order >= 0) {
+    const long vertices = character.vertex_count();
+    return reorder_vertices(character, inverse_order(accessors.read<std::uint32_t>(order, u32, TINYGLTF_TYPE_SCALAR,
+                                                                                   vertices, "vertexOrder"),
+                                                     vertices, source));
+  }
   return character;
 }
 

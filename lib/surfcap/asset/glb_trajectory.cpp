@@ -164,4 +164,42 @@ void decode_displacements(const DisplacementCodes& codes, long vertices, int exp
   }
 }
 
+QuantisedBasis quantise_basis(const Eigen::MatrixXd& basis) {
+  const long n = basis.rows() / 3, k = basis.cols();
+  QuantisedBasis quantised;
+  quantised.codes.assign(static_cast<std::size_t>(k * n * 4), 0);
+  for (long c = 0; c < k; ++c) {
+    float largest = 0;
+    for (long r = 0; r < 3 * n; ++r) largest = std::max(largest, std::abs(static_cast<float>(basis(r, c))));
+    int exponent = 0;
+    if (largest > 0) {
+      std::frexp(largest, &exponent);
+      exponent -= 15;  // largest / 2^exponent in [2^14, 2^15)
+      if (std::lround(std::ldexp(largest, -exponent)) > 32767) ++exponent;
+    }
+    quantised.exponents.push_back(exponent);
+    for (long v = 0; v < n; ++v)
+      for (int x = 0; x < 3; ++x)
+        quantised.codes[static_cast<std::size_t>((c * n + v) * 4 + x)] =
+            static_cast<std::int16_t>(std::lround(std::ldexp(static_cast<float>(basis(3 * v + x, c)), -exponent)));
+  }
+  return quantised;
+}
+
+Eigen::MatrixXd dequantise_basis(const std::vector<std::int16_t>& codes, const std::vector<int>& exponents, long rows,
+                                 const std::filesystem::path& source, const std::string& what) {
+  const long k = static_cast<long>(exponents.size()), n = rows / 3;
+  if (rows % 3 != 0 || static_cast<long>(codes.size()) != k * n * 4)
+    throw core::bad_input(source, what + ": the basis codes do not hold " + std::to_string(k) + " columns of " +
+                                      std::to_string(n) + " vertices");
+  Eigen::MatrixXd basis(rows, k);
+  for (long c = 0; c < k; ++c) {
+    if (exponents[c] < -64 || exponents[c] > 8) throw core::bad_input(source, what + ": a basis exponent is out of range");
+    for (long v = 0; v < n; ++v)
+      for (int x = 0; x < 3; ++x)
+        basis(3 * v + x, c) = static_cast<float>(std::ldexp(codes[static_cast<std::size_t>((c * n + v) * 4 + x)], exponents[c]));
+  }
+  return basis;
+}
+
 }  // namespace surfcap::asset::detail

@@ -4,6 +4,7 @@
 // integers q = round(value / 2^exponent), stored frame by frame as zigzag-coded differences from
 // the same vertex's previous (stored) frame: the meshopt vertex codec predicts every element from
 // the one before, and the frame differences of neighbouring vertices differ little.
+#include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -42,5 +43,19 @@ bool encode_displacements(const CharacterSpace& space, long vertices, int expone
 /// with bits beyond T, a value count differing from the masks' or codes beyond 24 bits.
 void decode_displacements(const DisplacementCodes& codes, long vertices, int exponent, CharacterSpace& space,
                           const std::filesystem::path& source, const std::string& what);
+
+/// A part model's basis (3n rows: x, y, z of each part vertex; k columns) in the compressed form:
+/// column by column, each part vertex as int16 (x, y, z, 0) codes q = round(b / 2^e_c) with e_c
+/// the smallest exponent keeping the column's codes within ±32767 (16 significant bits of the
+/// column's largest value). Writing what this decodes gives the same codes.
+struct QuantisedBasis {
+  std::vector<std::int16_t> codes;  ///< k·n·4
+  std::vector<int> exponents;       ///< k
+};
+QuantisedBasis quantise_basis(const Eigen::MatrixXd& basis);
+/// Its inverse for `rows` = 3n rows; bad_input naming `source` for sizes that disagree or
+/// exponents outside [−64, 8].
+Eigen::MatrixXd dequantise_basis(const std::vector<std::int16_t>& codes, const std::vector<int>& exponents, long rows,
+                                 const std::filesystem::path& source, const std::string& what);
 
 }  // namespace surfcap::asset::detail

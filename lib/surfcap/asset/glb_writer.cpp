@@ -5,6 +5,7 @@
 #include "surfcap/asset/glb_character.hpp"
 #include "surfcap/asset/glb_extension.hpp"
 #include "surfcap/asset/glb_morph.hpp"
+#include "surfcap/asset/vertex_order.hpp"
 #include "surfcap/core/atomic_file.hpp"
 #include "surfcap/core/version.hpp"
 
@@ -31,7 +32,7 @@ void set_scene_timing(GlbBuilder& builder, double fps, long frames) {
 }
 
 /// Every sequence as morph targets + an animation; returns the extension's "sequences".
-core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& character) {
+core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& character, double position_scale) {
   std::vector<std::string> names;
   std::vector<int> first_targets;
   core::Json sequences = core::Json::array();
@@ -43,7 +44,8 @@ core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& charact
       throw core::internal_error("sequence '" + sequence.name + "' needs one root motion per frame");
     TargetCorrections corrections;
     first_targets.push_back(
-        add_morph_targets(builder, mesh, character.template_mesh, sequence.frames, sequence.name + "/", names, &corrections));
+        add_morph_targets(builder, mesh, character.template_mesh, sequence.frames, sequence.name + "/", names,
+                          &corrections, position_scale));
     core::Json entry = {{"name", sequence.name}, {"frames", sequence.frame_count()}, {"firstTarget", first_targets.back()}};
     std::vector<float> root;
     for (const core::RootMotion& r : sequence.root_motion)
@@ -69,11 +71,11 @@ core::Json add_sequences(GlbBuilder& builder, int mesh, const Character& charact
 }
 
 core::Json extension_json(GlbBuilder& builder, int mesh, const Character& character,
-                          const std::vector<float>& exact_colors) {
+                          const std::vector<float>& exact_colors, double position_scale) {
   core::Json extension = {{"version", motion_graph_extension_version}, {"name", character.name},
                           {"fps", character.fps}, {"units", character.units}, {"mesh", mesh}, {"node", 0},
                           {"provenance", character.provenance}};
-  extension["sequences"] = add_sequences(builder, mesh, character);
+  extension["sequences"] = add_sequences(builder, mesh, character, position_scale);
   if (character.template_mesh.has_uvs())  // exact, in the mesh files' convention (v up)
     extension["template"]["uvs"] = builder.add_floats(row_major_floats(character.template_mesh.uvs),
                                                       TINYGLTF_TYPE_VEC2, "template", no_target, false, exact_codec(8));
@@ -99,21 +101,33 @@ GlbSummary summarise(const GlbBuilder& builder, const std::string& glb) {
   return summary;
 }
 
+/// The file's content: `character`, in the compressed form with its vertices in the codec's order.
+std::string character_bytes(const Character& character, const std::vector<std::uint32_t>& vertex_order,
+                            const GlbWriteOptions& options, GlbSummary* summary) {
+  GlbBuilder builder(generator_of(options), options.compress);
+  std::vector<const Eigen::MatrixXd*> all_frames;
+  for (const auto& sequence : character.sequences)
+    for (const Eigen::MatrixXd& frame : sequence.frames) all_frames.push_back(&frame);
+  const double scale = morph_position_scale(builder, character.template_mesh, all_frames);
+  std::vector<float> exact_colors;
+  const int mesh = add_template_mesh(builder, character.template_mesh, character.texture_png, character.name,
+                                     &exact_colors, scale);
+  set_scene_timing(builder, character.fps, static_cast<long>(all_frames.size()));
+  core::Json extension = extension_json(builder, mesh, character, exact_colors, scale);
+  if (!vertex_order.empty()) extension["vertexOrder"] = builder.add_u32(vertex_order, "template", no_target, exact_codec(4));
+  std::string glb = builder.finish({{motion_graph_extension, extension}});
+  if (summary) *summary = summarise(builder, glb);
+  return glb;
+}
+
 }  // namespace
 
 std::string character_glb_bytes(const Character& character, const GlbWriteOptions& options, GlbSummary* summary) {
   check_template(character.template_mesh);
   if (!(character.fps > 0)) throw core::internal_error("cannot export a character with fps " + std::to_string(character.fps));
-  GlbBuilder builder(generator_of(options), options.compress);
-  std::vector<float> exact_colors;
-  const int mesh = add_template_mesh(builder, character.template_mesh, character.texture_png, character.name, &exact_colors);
-  long frames = 0;
-  for (const auto& sequence : character.sequences) frames += sequence.frame_count();
-  set_scene_timing(builder, character.fps, frames);
-  const core::Json extension = extension_json(builder, mesh, character, exact_colors);
-  std::string glb = builder.finish({{motion_graph_extension, extension}});
-  if (summary) *summary = summarise(builder, glb);
-  return glb;
+  if (!options.compress) return character_bytes(character, {}, options, summary);
+  const std::vector<std::uint32_t> order = compression_vertex_order(character.template_mesh.F, character.vertex_count());
+  return character_bytes(reorder_vertices(character, order), order, options, summary);
 }
 
 GlbSummary write_character_glb(const std::filesystem::path& path, const Character& character,
@@ -135,10 +149,13 @@ GlbSummary write_animation_glb(const std::filesystem::path& path, const core::Me
     if (frame.rows() != template_mesh.vertex_count() || frame.cols() != 3)
       throw core::internal_error("animation '" + name + "' has frames of another vertex count than the template");
   GlbBuilder builder(generator_of(options), options.compress);
-  const int mesh = add_template_mesh(builder, template_mesh, {}, name);
+  std::vector<const Eigen::MatrixXd*> frames;
+  for (const Eigen::MatrixXd& frame : centred_frames) frames.push_back(&frame);
+  const double scale = morph_position_scale(builder, template_mesh, frames);
+  const int mesh = add_template_mesh(builder, template_mesh, {}, name, nullptr, scale);
   set_scene_timing(builder, fps, static_cast<long>(centred_frames.size()));
   std::vector<std::string> names;
-  const int first = add_morph_targets(builder, mesh, template_mesh, centred_frames, name + "/", names, nullptr);
+  const int first = add_morph_targets(builder, mesh, template_mesh, centred_frames, name + "/", names, nullptr, scale);
   finish_morph_targets(builder, mesh, names);
   add_morph_animation(builder, first, static_cast<int>(centred_frames.size()), static_cast<int>(names.size()), fps,
                       &root_motion, name);

@@ -227,6 +227,68 @@ TEST(CharacterGlb, CompressedFormIsSmallerAndWithinItsRounding) {
   expect_bad_input("corrupt.glb", [&] { asset::parse_character_glb(corrupt, "corrupt.glb"); }, "corrupt stream");
 }
 
+TEST(CharacterGlb, CompressedFormScalesLargeMotionsAndQuantisesPartBases) {
+  asset::Character character = testing::synthetic_character(testing::make_sphere(24, 32, 0.5), {.frames = 12});
+  // Frames 1.5 m from the template (centred frames of a template standing away from the origin):
+  // normalized SHORT reaches 1 node unit, so the node takes a scale of 2.
+  for (auto& sequence : character.sequences)
+    for (Eigen::MatrixXd& frame : sequence.frames) frame.col(2).array() += 1.5;
+  const std::string compressed = asset::character_glb_bytes(character, {});
+  const core::Json json = json_of(compressed);
+  EXPECT_EQ(json["nodes"][0]["scale"], core::Json({2.0, 2.0, 2.0}));
+  const core::Json& target = json["meshes"][0]["primitives"][0]["targets"][0];
+  EXPECT_EQ(json["accessors"][target["POSITION"].get<int>()]["componentType"], 5122);
+  const asset::Character read = asset::parse_character_glb(compressed, "compressed.glb");
+  EXPECT_TRUE(identical(read.template_mesh.V, character.template_mesh.V));
+  for (std::size_t s = 0; s < character.sequences.size(); ++s)
+    for (int t = 0; t < character.sequences[s].frame_count(); ++t)
+      EXPECT_LE((read.sequences[s].frames[t] - character.sequences[s].frames[t]).cwiseAbs().maxCoeff(), 1.0 / 32767 + 1e-6);
+  // Part bases: int16 codes of 2^e per column, within half a step of the float basis.
+  ASSERT_TRUE(read.parts && character.parts);
+  const core::Json& parts = json["extensions"]["SURFCAP_motion_graph"]["parts"]["parts"];
+  for (std::size_t p = 0; p < character.parts->parts.size(); ++p) {
+    const Eigen::MatrixXd& exact = character.parts->parts[p].basis;
+    const Eigen::MatrixXd& decoded = read.parts->parts[p].basis;
+    ASSERT_EQ(decoded.rows(), exact.rows());
+    ASSERT_EQ(decoded.cols(), exact.cols());
+    const auto exponents = parts[p]["basisExponents"].get<std::vector<int>>();
+    EXPECT_EQ(json["accessors"][parts[p]["basis"].get<int>()]["componentType"], 5122);
+    for (long c = 0; c < exact.cols(); ++c) {
+      const double step = std::ldexp(1.0, exponents[static_cast<std::size_t>(c)]);
+      EXPECT_LE(step, exact.col(c).cwiseAbs().maxCoeff() / 16384 + 1e-300);  // 15+ significant bits
+      EXPECT_LE((decoded.col(c) - exact.col(c)).cwiseAbs().maxCoeff(), step / 2 + 1e-7 * exact.col(c).cwiseAbs().maxCoeff());
+    }
+  }
+  // Vertices travel in the codec's order (neighbours on the surface in a row) and come back in
+  // the character's own: faces, part lists and regions as written.
+  const core::Json& extension = json["extensions"]["SURFCAP_motion_graph"];
+  const std::size_t vertices = static_cast<std::size_t>(character.vertex_count());
+  const auto& order_accessor = json["accessors"][extension["vertexOrder"].get<int>()];
+  EXPECT_EQ(order_accessor["count"].get<std::size_t>(), vertices);
+  EXPECT_TRUE(identical(read.template_mesh.F, character.template_mesh.F));
+  EXPECT_TRUE(identical(read.template_mesh.colors, character.template_mesh.colors));
+  EXPECT_TRUE(identical(read.template_mesh.uvs, character.template_mesh.uvs));
+  for (std::size_t p = 0; p < character.parts->parts.size(); ++p) {
+    EXPECT_EQ(read.parts->parts[p].part.vertices, character.parts->parts[p].part.vertices);
+    EXPECT_EQ(read.parts->parts[p].part.frontier, character.parts->parts[p].part.frontier);
+  }
+  EXPECT_EQ(read.parts->regions, character.parts->regions);
+  for (std::size_t s = 0; s < character.spaces.size(); ++s) {
+    EXPECT_EQ(read.spaces[s].displacement_vertices, character.spaces[s].displacement_vertices);
+    EXPECT_LE(max_difference(read.spaces[s].references, character.spaces[s].references), std::ldexp(1.0, -17));
+  }
+  // What the reader decodes writes the same file.
+  EXPECT_EQ(asset::character_glb_bytes(read, {}), compressed);
+  // A node scale that is not a uniform power of two is refused.
+  core::Json bad = json;
+  bad["nodes"][0]["scale"] = {3.0, 3.0, 3.0};
+  expect_bad_input("scaled.glb", [&] { asset::parse_character_glb(with_json(compressed, bad), "scaled.glb"); }, "scale");
+  // A vertex order that is not a permutation (an index twice) is refused.
+  bad = json;
+  bad["extensions"]["SURFCAP_motion_graph"]["vertexOrder"] = bad["meshes"][0]["primitives"][0]["indices"];
+  expect_bad_input("order.glb", [&] { asset::parse_character_glb(with_json(compressed, bad), "order.glb"); }, "order");
+}
+
 TEST(CharacterGlb, ColoursAreLinearInTheFileAndCapturedOnRead) {
   asset::Character character = test_character();
   const long vertices = character.vertex_count();
