@@ -127,7 +127,7 @@ void run_tree_stage(const std::filesystem::path& out, const SimilarityStageOptio
   SimilarityTree tree;
   {
     auto timer = report.time("spanning_tree");
-    tree = similarity_tree(matrix.cast<double>(), root, std::nullopt,
+    tree = similarity_tree(matrix, root, std::nullopt,
                            wide_stance_roots(set.stance, options.root_candidates));
   }
   write_tree(out, tree, set.frames);
