@@ -55,6 +55,16 @@ for seq in walk run jump_low jump_high; do
   done
 done
 
+# The long preset, cut to 2 frames of each of its 28 takes, with the images it has none of by default.
+"$synth" --preset long --vertices 600 --frames-per-sequence 2 --images --out "$work/g" --log-level warn
+python3 - "$work/g" <<'PY' || fail "--preset long --frames-per-sequence 2 --images"
+import json, os, sys
+capture = json.load(open(os.path.join(sys.argv[1], "capture.json")))
+assert len(capture["sequences"]) == 28 and all(s["count"] == 2 for s in capture["sequences"]), capture["sequences"]
+assert all(s.get("images") for s in capture["sequences"])
+assert os.path.exists(os.path.join(sys.argv[1], "reach_top/images/cam07/000001.png"))
+PY
+
 # Exit codes: 2 for bad arguments.
 set +e
 "$synth" --preset nope --out "$work/d" 2>/dev/null; [ $? = 2 ] || fail "unknown preset: exit code"

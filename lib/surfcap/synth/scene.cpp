@@ -123,7 +123,8 @@ Scene preset_scene(const std::string& name) {
     scene.sequences = {gait("walk", 4, 1, 1.3), jump("jump_high", 6, 0.35, 0.3), reach("reach_low", 6, 0.85)};
   } else if (name == "long") {
     // A studio day's worth of takes: 2,006 frames in 28 sequences, each family performed at many
-    // speeds, turn rates, heights and distances; no images (they would take ~12 GB).
+    // speeds, turn rates, heights and distances. No images unless asked (--images): the
+    // histograms, similarity and tree do not read them (docs/synth.md gives their cost).
     scene.body.target_vertices = 8000;
     scene.images = false;
     scene.contact_sheet_frames = 8;
