@@ -1,7 +1,7 @@
 #pragma once
 // A synthetic capture session: the actor, the studio, the reconstruction model and the
 // sequences to perform. Stored as configs/synth/<name>.json ("surfcap.synth_scene/1",
-// docs/synth.md); the presets tiny, demo and full are also built in.
+// docs/synth.md); the presets (tiny, demo, full, studio, studio_tiny, long) are also built in.
 
 #include <filesystem>
 #include <string>
