@@ -5,6 +5,7 @@
 #include <random>
 
 #include "surfcap/core/mesh.hpp"
+#include "surfcap/core/report.hpp"
 #include "surfcap/similarity/shape_histogram.hpp"
 #include "surfcap/similarity/similarity_matrix.hpp"
 #include "surfcap/similarity/spanning_tree.hpp"
@@ -71,9 +72,10 @@ void BM_SimilarityMatrix(benchmark::State& state) {
     benchmark::DoNotOptimize(similarity::similarity_rows(histograms, layout, index, 0, n, options));
   state.counters["frames"] = static_cast<double>(n);
   state.counters["pairs_per_s"] = benchmark::Counter(static_cast<double>(n * n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["peak_rss_mb"] = core::peak_rss_mb();  // of the whole run so far: run one size alone to read it
 }
 BENCHMARK(BM_SimilarityMatrix)
-    ->Args({200, 2})->Args({500, 2})->Args({1500, 2})->Args({500, 1})
+    ->Args({200, 2})->Args({500, 2})->Args({1500, 2})->Args({500, 1})->Args({2000, 2})->Args({4000, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 void BM_HistogramMatch(benchmark::State& state) {
@@ -86,8 +88,9 @@ void BM_HistogramMatch(benchmark::State& state) {
 }
 BENCHMARK(BM_HistogramMatch)->Arg(0)->Arg(1);
 
-void BM_SpanningTree1500(benchmark::State& state) {
-  const long n = 1500;
+/// The tree of N frames from their N×N costs (the tree stage's work after reading the matrix).
+void BM_SpanningTree(benchmark::State& state) {
+  const long n = state.range(0);
   std::mt19937 random(5);
   std::uniform_real_distribution<double> uniform(0, 1);
   // Frames on a smooth 3-D curve plus noise: banded similarity like a real capture.
@@ -98,7 +101,9 @@ void BM_SpanningTree1500(benchmark::State& state) {
   for (long i = 0; i < n; ++i)
     for (long j = 0; j < n; ++j) costs(i, j) = (points.row(i) - points.row(j)).norm();
   for (auto _ : state) benchmark::DoNotOptimize(similarity::similarity_tree(costs));
+  state.counters["frames"] = static_cast<double>(n);
+  state.counters["peak_rss_mb"] = core::peak_rss_mb();
 }
-BENCHMARK(BM_SpanningTree1500)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SpanningTree)->Arg(1500)->Arg(2000)->Arg(4000)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -27,6 +27,15 @@ half=$((n / 2))
 "$align" similarity --out "$work/b" --rows "$half:$n" --log-level warn
 "$align" merge --out "$work/b" --log-level warn
 cmp "$work/a/similarity/matrix.npy" "$work/b/similarity/matrix.npy"
+# Every stage's report, merge's too, gives the process's CPU time and peak memory.
+python3 - "$work/b/report" <<'PY'
+import json, os, sys
+names = sorted(os.listdir(sys.argv[1]))
+assert "similarity-merge.json" in names and "histograms.json" in names, names
+for name in names:
+    report = json.load(open(os.path.join(sys.argv[1], name)))
+    assert report["format"] == "surfcap.report/1" and report["peak_rss_mb"] > 1 and report["cpu_s"] > 0, (name, report)
+PY
 
 "$align" tree --out "$work/a" --ground-truth "$work/capture/ground_truth/database/database.json" --log-level warn
 python3 - "$work/a" "$n" <<'PY'

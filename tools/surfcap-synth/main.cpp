@@ -16,12 +16,12 @@ int main(int argc, char** argv) {
   std::string preset = "tiny", scene_path, out;
   int seed = -1, vertices = 0;
   double noise_mm = -1;
-  bool no_images = false, visual_hull = false, remesh = false, floor_cut = false, no_floor_cut = false,
+  bool images = false, no_images = false, visual_hull = false, remesh = false, floor_cut = false, no_floor_cut = false,
        textures = false, no_textures = false;
   std::string unseen;
-  int reconstruction_vertices = -1;
+  int reconstruction_vertices = -1, frames_per_sequence = -1;
   double voxel_mm = -1, outliers = -1, blobs = -1;
-  cli.add_option("--preset", preset, "Built-in scene: tiny, demo, full, studio or studio_tiny (ignored with --scene)")
+  cli.add_option("--preset", preset, "Built-in scene: tiny, demo, full, studio, studio_tiny or long (ignored with --scene)")
       ->check(CLI::IsMember(synth::preset_names()));
   cli.add_option("--scene", scene_path, "Scene file (surfcap.synth_scene/1 JSON, e.g. configs/synth/demo.json)")
       ->check(CLI::ExistingFile);
@@ -30,7 +30,11 @@ int main(int argc, char** argv) {
   cli.add_option("--vertices", vertices, "Override the actor's vertex count (0: the scene's)")
       ->check(CLI::Range(0, 200000));
   cli.add_option("--noise-mm", noise_mm, "Override the reconstruction noise, mm (-1: the scene's)");
-  cli.add_flag("--no-images", no_images, "Write no camera images");
+  cli.add_flag("--images", images, "Write the camera images even if the scene has none (preset long)");
+  cli.add_flag("--no-images", no_images, "Write no camera images")->excludes("--images");
+  cli.add_option("--frames-per-sequence", frames_per_sequence,
+                 "A cut: only the first N frames of each sequence, the same as the whole capture's (0: all)")
+      ->check(CLI::NonNegativeNumber);
   // Studio models (docs/synth.md); each overrides the scene's.
   cli.add_flag("--visual-hull", visual_hull, "Reconstruct by shape from silhouette");
   cli.add_flag("--remesh", remesh, "Reconstruct by remeshing the true surface (no visual hull)")->excludes("--visual-hull");
@@ -51,7 +55,9 @@ int main(int argc, char** argv) {
     if (seed >= 0) scene.seed = seed;
     if (vertices > 0) scene.body.target_vertices = vertices;
     if (noise_mm >= 0) scene.reconstruction.noise_sigma = noise_mm / 1000;
+    if (images) scene.images = true;
     if (no_images) scene.images = false;
+    if (frames_per_sequence >= 0) scene.frames_per_sequence = frames_per_sequence;
     auto& r = scene.reconstruction;
     if (visual_hull) r.visual_hull = true;
     if (remesh) r.visual_hull = false;

@@ -1,8 +1,23 @@
 #include "surfcap/core/report.hpp"
 
+#include <sys/resource.h>
+
 #include "surfcap/core/version.hpp"
 
 namespace surfcap::core {
+
+double peak_rss_mb() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+double process_cpu_seconds() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
 
 StageReport::StageReport(std::string stage) : stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {}
 
@@ -30,6 +45,8 @@ Json StageReport::to_json() const {
   document["version"] = std::string(version());
   document["timings_s"] = timings_;
   document["total_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  document["cpu_s"] = process_cpu_seconds();
+  document["peak_rss_mb"] = peak_rss_mb();
   return document;
 }
 

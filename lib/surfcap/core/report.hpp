@@ -9,7 +9,13 @@
 
 namespace surfcap::core {
 
-/// {"format":"surfcap.report/1","stage","version","timings_s":{...},"total_s", ...figures}
+/// This process's peak resident memory so far (getrusage's ru_maxrss), MiB; 0 where unknown.
+double peak_rss_mb();
+/// CPU time of this process so far (user + system, every thread), seconds.
+double process_cpu_seconds();
+
+/// {"format":"surfcap.report/1","stage","version","timings_s":{...},"total_s","cpu_s","peak_rss_mb",
+///  ...figures}; cpu_s and peak_rss_mb are the process's up to the moment the report is written.
 class StageReport {
  public:
   explicit StageReport(std::string stage);

@@ -36,17 +36,31 @@ class VertexSets {
 
 std::vector<BoundaryLoop> boundary_loops(const Mesh& mesh) {
   const auto& F = mesh.F;
-  std::vector<std::uint64_t> directed;
-  directed.reserve(static_cast<std::size_t>(F.rows()) * 3);
+  // Every directed edge as its undirected key with the direction in the lowest bit
+  // (min << 32 | max << 1 | (a > b); indices are non-negative ints, so max << 1 fits 32 bits).
+  // Sorted, the uses of one edge are adjacent, so one linear pass finds the directed edges
+  // whose reverse no face uses: those lie on a hole.
+  std::vector<std::uint64_t> uses;
+  uses.reserve(static_cast<std::size_t>(F.rows()) * 3);
   for (long f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) directed.push_back(edge_key(F(f, k), F(f, (k + 1) % 3)));
-  std::sort(directed.begin(), directed.end());
-  // A directed edge whose reverse no face uses lies on a hole (sorted by source vertex).
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::uint32_t>(F(f, k)), b = static_cast<std::uint32_t>(F(f, (k + 1) % 3));
+      if (a == b) continue;  // a degenerate face's edge is its own reverse: never on a hole
+      uses.push_back((std::uint64_t{std::min(a, b)} << 32) | (std::uint64_t{std::max(a, b)} << 1) | (a > b ? 1u : 0u));
+    }
+  std::sort(uses.begin(), uses.end());
   std::vector<std::pair<int, int>> boundary;
-  for (const std::uint64_t key : directed) {
-    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    if (!std::binary_search(directed.begin(), directed.end(), edge_key(b, a))) boundary.emplace_back(a, b);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && (uses[j] >> 1) == (uses[i] >> 1)) ++j;
+    // Sorted by direction within the run: both directions are used iff the first and last differ.
+    if ((uses[i] & 1) == (uses[j - 1] & 1)) {
+      const auto low = static_cast<int>(uses[i] >> 32), high = static_cast<int>((uses[i] & 0xffffffffu) >> 1);
+      for (std::size_t u = i; u < j; ++u) (uses[u] & 1) ? boundary.emplace_back(high, low) : boundary.emplace_back(low, high);
+    }
+    i = j;
   }
+  std::sort(boundary.begin(), boundary.end());  // by source vertex, as the walk below looks them up
   std::vector<char> used(boundary.size(), 0);
   std::vector<BoundaryLoop> loops;
   for (std::size_t start = 0; start < boundary.size(); ++start) {

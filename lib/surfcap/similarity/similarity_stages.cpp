@@ -111,9 +111,16 @@ void run_similarity_stage(const std::filesystem::path& out, const SimilarityStag
 }
 
 void run_merge_stage(const std::filesystem::path& out) {
+  core::StageReport report("align.merge");
   const HistogramSet set = read_histograms(out);
-  const FloatRows matrix = merge_row_blocks(out, set.histograms.rows());
+  FloatRows matrix;
+  {
+    auto timer = report.time("merge");
+    matrix = merge_row_blocks(out, set.histograms.rows());
+  }
   write_matrix_outputs(out, matrix, set.frames);
+  report.figures()["frames"] = set.histograms.rows();
+  report.write(out / "report" / "similarity-merge.json");
   spdlog::info("merged row blocks → {}", matrix_path(out).string());
 }
 
@@ -127,7 +134,7 @@ void run_tree_stage(const std::filesystem::path& out, const SimilarityStageOptio
   SimilarityTree tree;
   {
     auto timer = report.time("spanning_tree");
-    tree = similarity_tree(matrix.cast<double>(), root, std::nullopt,
+    tree = similarity_tree(matrix, root, std::nullopt,
                            wide_stance_roots(set.stance, options.root_candidates));
   }
   write_tree(out, tree, set.frames);

@@ -12,28 +12,6 @@
 namespace surfcap::similarity {
 namespace {
 
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(static_cast<std::size_t>(n)) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[static_cast<std::size_t>(x)] != x) {
-      parent_[static_cast<std::size_t>(x)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(x)])];
-      x = parent_[static_cast<std::size_t>(x)];
-    }
-    return x;
-  }
-  bool unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent_[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-    return true;
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
 struct Edge {
   double cost;
   int a, b;
@@ -47,13 +25,39 @@ struct Adjacent {
   double cost;
 };
 
-/// Kruskal over `edges` (sorted in place); returns the accepted edges.
-std::vector<Edge> kruskal(std::vector<Edge>& edges, DisjointSets& sets) {
+template <class Matrix>
+double symmetric_cost(const Matrix& costs, long i, long j) {
+  return 0.5 * (static_cast<double>(costs(i, j)) + static_cast<double>(costs(j, i)));
+}
+
+/// The minimum spanning tree of the complete graph, edges ordered by (cost, a, b): a strict total
+/// order, so the tree is unique (Kruskal's over all N²/2 edges would give the same one). Prim's
+/// dense O(N²) form needs O(N) memory beyond the costs; the edges come back in ascending order.
+template <class Matrix>
+std::vector<Edge> minimum_spanning_edges(const Matrix& costs) {
+  const int n = static_cast<int>(costs.rows());
+  if (n == 0) return {};
+  std::vector<Edge> best(static_cast<std::size_t>(n), Edge{std::numeric_limits<double>::infinity(), -1, -1});
+  std::vector<char> in_tree(static_cast<std::size_t>(n), 0);
+  std::vector<Edge> edges;
+  edges.reserve(static_cast<std::size_t>(std::max(0, n - 1)));
+  int current = 0;
+  in_tree[0] = 1;
+  for (int step = 1; step < n; ++step) {
+    int next = -1;
+    for (int v = 0; v < n; ++v) {
+      if (in_tree[static_cast<std::size_t>(v)]) continue;
+      const Edge edge{symmetric_cost(costs, current, v), std::min(current, v), std::max(current, v)};
+      Edge& known = best[static_cast<std::size_t>(v)];
+      if (known.a < 0 || edge < known) known = edge;
+      if (next < 0 || known < best[static_cast<std::size_t>(next)]) next = v;
+    }
+    in_tree[static_cast<std::size_t>(next)] = 1;
+    edges.push_back(best[static_cast<std::size_t>(next)]);
+    current = next;
+  }
   std::sort(edges.begin(), edges.end());
-  std::vector<Edge> accepted;
-  for (const Edge& edge : edges)
-    if (sets.unite(edge.a, edge.b)) accepted.push_back(edge);
-  return accepted;
+  return edges;
 }
 
 /// Σ over nodes of the path cost from every possible root, by re-rooting in O(N).
@@ -89,16 +93,28 @@ std::vector<double> weighted_depths(const std::vector<std::vector<Adjacent>>& ad
 
 }  // namespace
 
-double automatic_threshold(const Eigen::MatrixXd& costs) {
+namespace {
+
+template <class Matrix>
+double threshold_of(const Matrix& costs) {
   double threshold = 0;
   for (long i = 0; i < costs.rows(); ++i) {
     double best = std::numeric_limits<double>::infinity();
     for (long j = 0; j < costs.cols(); ++j)
-      if (j != i) best = std::min(best, 0.5 * (costs(i, j) + costs(j, i)));
+      if (j != i) best = std::min(best, symmetric_cost(costs, i, j));
     if (std::isfinite(best)) threshold = std::max(threshold, best);
   }
   return threshold;
 }
+
+template <class Matrix>
+SimilarityTree tree_of(const Matrix& costs, std::optional<int> root, std::optional<double> threshold,
+                       const std::vector<bool>& eligible_roots);
+
+}  // namespace
+
+double automatic_threshold(const Eigen::MatrixXd& costs) { return threshold_of(costs); }
+double automatic_threshold(const FloatRows& costs) { return threshold_of(costs); }
 
 std::vector<bool> wide_stance_roots(const std::vector<double>& stance, double fraction) {
   if (stance.empty()) return {};
@@ -114,6 +130,19 @@ std::vector<bool> wide_stance_roots(const std::vector<double>& stance, double fr
 
 SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root, std::optional<double> threshold,
                                const std::vector<bool>& eligible_roots) {
+  return tree_of(costs, root, threshold, eligible_roots);
+}
+
+SimilarityTree similarity_tree(const FloatRows& costs, std::optional<int> root, std::optional<double> threshold,
+                               const std::vector<bool>& eligible_roots) {
+  return tree_of(costs, root, threshold, eligible_roots);
+}
+
+namespace {
+
+template <class Matrix>
+SimilarityTree tree_of(const Matrix& costs, std::optional<int> root, std::optional<double> threshold,
+                       const std::vector<bool>& eligible_roots) {
   const int n = static_cast<int>(costs.rows());
   if (n == 0 || costs.cols() != n) throw core::internal_error("similarity_tree: the cost matrix must be square and non-empty");
   if (!eligible_roots.empty() &&
@@ -122,22 +151,15 @@ SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> 
     throw core::internal_error("similarity_tree: eligible roots must flag at least one of the N nodes");
   if (root && (*root < 0 || *root >= n)) throw core::bad_arguments("root node " + std::to_string(*root) + " is out of range");
   SimilarityTree tree;
-  tree.threshold = threshold.value_or(automatic_threshold(costs));
-  std::vector<Edge> kept, rest;
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) {
-      const double cost = 0.5 * (costs(i, j) + costs(j, i));
-      (cost <= tree.threshold ? kept : rest).push_back({cost, i, j});
-    }
-  DisjointSets sets(n);
-  std::vector<Edge> accepted = kruskal(kept, sets);
-  tree.components_after_pruning = n - static_cast<int>(accepted.size());
-  if (tree.components_after_pruning > 1) {
-    // Pruning disconnected the graph: join the components by their cheapest edges.
-    std::vector<Edge> joining = kruskal(rest, sets);
-    tree.joining_edges = static_cast<int>(joining.size());
-    accepted.insert(accepted.end(), joining.begin(), joining.end());
-  }
+  tree.threshold = threshold.value_or(threshold_of(costs));
+  // Pruning the graph above the threshold, then joining what it disconnected by the cheapest
+  // edges, is the minimum spanning tree: its edges up to the threshold span the pruned graph's
+  // components, the ones above join them.
+  const std::vector<Edge> accepted = minimum_spanning_edges(costs);
+  const auto kept = static_cast<int>(
+      std::count_if(accepted.begin(), accepted.end(), [&](const Edge& edge) { return edge.cost <= tree.threshold; }));
+  tree.components_after_pruning = n - kept;
+  if (tree.components_after_pruning > 1) tree.joining_edges = static_cast<int>(accepted.size()) - kept;
   std::vector<std::vector<Adjacent>> adjacency(static_cast<std::size_t>(n));
   for (const Edge& edge : accepted) {
     adjacency[static_cast<std::size_t>(edge.a)].push_back({edge.b, edge.cost});
@@ -175,14 +197,11 @@ SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> 
   return tree;
 }
 
+}  // namespace
+
 double minimum_spanning_tree_cost(const Eigen::MatrixXd& costs) {
-  const int n = static_cast<int>(costs.rows());
-  std::vector<Edge> edges;
-  for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) edges.push_back({0.5 * (costs(i, j) + costs(j, i)), i, j});
-  DisjointSets sets(n);
   double total = 0;
-  for (const Edge& edge : kruskal(edges, sets)) total += edge.cost;
+  for (const Edge& edge : minimum_spanning_edges(costs)) total += edge.cost;
   return total;
 }
 

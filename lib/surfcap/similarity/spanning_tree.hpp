@@ -26,14 +26,21 @@ struct SimilarityTree {
   double weighted_depth = 0;        ///< Σ over nodes of the path cost from the root
 };
 
+using FloatRows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 /// The automatic threshold: max over rows of the smallest off-diagonal entry.
 double automatic_threshold(const Eigen::MatrixXd& costs);
+double automatic_threshold(const FloatRows& costs);
 
 /// Builds the tree from a symmetric N×N cost matrix (the filtered dissimilarity; only the upper
 /// triangle is read after symmetrising). `root`: a given root node, else the one of minimal
 /// weighted depth among `eligible_roots` (N flags; empty: every node). Ties are broken by node
-/// order, so the result is deterministic.
+/// order, so the result is deterministic. Time O(N²), memory O(N) beyond the costs; the float
+/// form (similarity/matrix.npy as read) gives the same tree as its double copy.
 SimilarityTree similarity_tree(const Eigen::MatrixXd& costs, std::optional<int> root = std::nullopt,
+                               std::optional<double> threshold = std::nullopt,
+                               const std::vector<bool>& eligible_roots = {});
+SimilarityTree similarity_tree(const FloatRows& costs, std::optional<int> root = std::nullopt,
                                std::optional<double> threshold = std::nullopt,
                                const std::vector<bool>& eligible_roots = {});
 

@@ -337,7 +337,8 @@ void write_contact_sheet(const Scene& scene, const Actor& actor, const std::vect
   for (int i = 0; i < count; ++i) {
     long global = count == 1 ? 0 : (total - 1) * i / (count - 1);
     int s = 0;
-    while (global >= scene.sequences[static_cast<std::size_t>(s)].frames) global -= scene.sequences[static_cast<std::size_t>(s++)].frames;
+    while (global >= scene.written_frames(scene.sequences[static_cast<std::size_t>(s)]))
+      global -= scene.written_frames(scene.sequences[static_cast<std::size_t>(s++)]);
     picks.push_back({s, static_cast<int>(global)});
   }
   std::vector<int> views = {0};
@@ -504,7 +505,7 @@ void write_capture_files(const Scene& scene, const std::vector<render::Camera>& 
   for (const auto& motion : scene.sequences)
     capture.sequences.push_back({motion.name, motion.name + "/mesh/{frame:06d}.ply",
                                  scene.images ? motion.name + "/images/{camera}/{frame:06d}.png" : "", 0,
-                                 motion.frames});
+                                 scene.written_frames(motion)});
   core::write_capture(capture);
 }
 
@@ -559,8 +560,9 @@ void generate_capture(const Scene& scene, const std::filesystem::path& directory
   std::vector<Job> jobs;
   std::vector<std::vector<FrameSlot>> slots;
   for (int s = 0; s < static_cast<int>(scene.sequences.size()); ++s) {
-    slots.emplace_back(static_cast<std::size_t>(scene.sequences[static_cast<std::size_t>(s)].frames));
-    for (int t = 0; t < scene.sequences[static_cast<std::size_t>(s)].frames; ++t) jobs.push_back({s, t});
+    const int frames = scene.written_frames(scene.sequences[static_cast<std::size_t>(s)]);
+    slots.emplace_back(static_cast<std::size_t>(frames));
+    for (int t = 0; t < frames; ++t) jobs.push_back({s, t});
   }
   {
     auto timer = report.time("frames");

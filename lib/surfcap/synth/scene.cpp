@@ -1,5 +1,6 @@
 #include "surfcap/synth/scene.hpp"
 
+#include <algorithm>
 #include <set>
 
 #include "surfcap/core/error.hpp"
@@ -80,7 +81,7 @@ UnseenMode unseen_mode(const std::string& name) {
   throw core::bad_arguments("unseen must be keep, remove or rough, not '" + name + "'");
 }
 
-std::vector<std::string> preset_names() { return {"tiny", "demo", "full", "studio", "studio_tiny"}; }
+std::vector<std::string> preset_names() { return {"tiny", "demo", "full", "studio", "studio_tiny", "long"}; }
 
 Scene preset_scene(const std::string& name) {
   Scene scene;
@@ -120,8 +121,29 @@ Scene preset_scene(const std::string& name) {
     scene.studio.height = 240;
     scene.reconstruction = studio_reconstruction(3000, 0.02);
     scene.sequences = {gait("walk", 4, 1, 1.3), jump("jump_high", 6, 0.35, 0.3), reach("reach_low", 6, 0.85)};
+  } else if (name == "long") {
+    // A studio day's worth of takes: 2,006 frames in 28 sequences, each family performed at many
+    // speeds, turn rates, heights and distances. No images unless asked (--images): the
+    // histograms, similarity and tree do not read them (docs/synth.md gives their cost).
+    scene.body.target_vertices = 8000;
+    scene.images = false;
+    scene.contact_sheet_frames = 8;
+    scene.sequences = {gait("walk", 112, 4, 1.3),           gait("walk_slow", 120, 4, 0.9),
+                       gait("walk_fast", 104, 4, 1.7),      gait("walk_left", 112, 4, 1.3, 40),
+                       gait("walk_right", 112, 4, 1.3, -40), gait("circle_left", 140, 5, 1.1, 90),
+                       gait("circle_right", 140, 5, 1.1, -90), gait("jog", 88, 4, 2.2),
+                       gait("jog_left", 88, 4, 2.2, 60),    gait("run", 72, 4, 3.0),
+                       gait("run_left", 72, 4, 3.0, 60),    gait("run_right", 72, 4, 3.0, -60),
+                       gait("sprint", 64, 4, 4.0),          jump("hop", 32, 0.08, 0.1),
+                       jump("jump_low", 40, 0.15, 0.3),     jump("jump_mid", 40, 0.3, 0.3),
+                       jump("jump_high", 44, 0.45, 0.3),    jump("jump_top", 48, 0.6, 0.2),
+                       jump("jump_short", 40, 0.25, 0.2),   jump("jump_long", 48, 0.3, 1.0),
+                       jump("jump_far", 52, 0.4, 1.5),      reach("reach_floor", 60, 0.7),
+                       reach("reach_low", 50, 0.85),        reach("reach_waist", 50, 1.1),
+                       reach("reach_mid", 50, 1.3),         reach("reach_head", 50, 1.6),
+                       reach("reach_high", 50, 1.85),       reach("reach_top", 56, 2.1)};
   } else {
-    throw core::bad_arguments("unknown preset '" + name + "' (tiny, demo, full, studio or studio_tiny)");
+    throw core::bad_arguments("unknown preset '" + name + "' (tiny, demo, full, studio, studio_tiny or long)");
   }
   return scene;
 }
@@ -151,15 +173,20 @@ void Scene::validate() const {
   if (!(r.blobs >= 0 && r.blobs <= 20)) throw fail("blobs must be in [0, 20]");
   if (!(r.blob_radius >= 0.001 && r.blob_radius <= 0.2)) throw fail("blob_radius_mm must be in [1, 200]");
   if (!(r.texture_scale >= 0.25 && r.texture_scale <= 8)) throw fail("texture_scale must be in [0.25, 8]");
+  if (frames_per_sequence < 0 || frames_per_sequence == 1) throw fail("frames_per_sequence must be 0 (all) or ≥ 2");
   if (sequences.empty()) throw fail("no sequences");
   std::set<std::string> names;
   for (const auto& s : sequences)
     if (!names.insert(s.name).second) throw fail("two sequences are named '" + s.name + "'");
 }
 
+int Scene::written_frames(const MotionSpec& motion) const {
+  return frames_per_sequence > 0 ? std::min(motion.frames, frames_per_sequence) : motion.frames;
+}
+
 long Scene::total_frames() const {
   long total = 0;
-  for (const auto& s : sequences) total += s.frames;
+  for (const auto& s : sequences) total += written_frames(s);
   return total;
 }
 
@@ -190,6 +217,7 @@ core::Json scene_to_json(const Scene& s) {
             {"damping", s.garment.damping},
             {"drag", s.garment.drag}}},
           {"sequences", sequences}};
+  if (s.frames_per_sequence > 0) document["frames_per_sequence"] = s.frames_per_sequence;
   // The studio models appear only when one is on: scenes without them read and write as before.
   const auto& r = s.reconstruction;
   if (r.studio())
@@ -221,6 +249,7 @@ Scene scene_from_json(const core::Json& d, const std::string& source) {
   read(d, "seed", s.seed, source);
   read(d, "images", s.images, source);
   read(d, "contact_sheet_frames", s.contact_sheet_frames, source);
+  read(d, "frames_per_sequence", s.frames_per_sequence, source);
   if (d.contains("actor")) {
     read(d["actor"], "height", s.body.height, source);
     read(d["actor"], "vertices", s.body.target_vertices, source);

@@ -1,7 +1,7 @@
 #pragma once
 // A synthetic capture session: the actor, the studio, the reconstruction model and the
 // sequences to perform. Stored as configs/synth/<name>.json ("surfcap.synth_scene/1",
-// docs/synth.md); the presets tiny, demo and full are also built in.
+// docs/synth.md); the presets (tiny, demo, full, studio, studio_tiny, long) are also built in.
 
 #include <filesystem>
 #include <string>
@@ -36,16 +36,22 @@ struct Scene {
   bool images = true;
   int contact_sheet_frames = 4;
   std::vector<MotionSpec> sequences;
+  /// A cut: > 0 writes only the first N frames of each sequence (fewer if it has fewer). The
+  /// motions keep their full length, so the frames written are those of the whole capture, byte
+  /// for byte. 0: every frame.
+  int frames_per_sequence = 0;
 
   /// bad_arguments naming the problem (sizes, counts, duplicate sequence names...).
   void validate() const;
-  long total_frames() const;
+  /// Frames written of a sequence: its length, or the cut.
+  int written_frames(const MotionSpec& motion) const;
+  long total_frames() const;  ///< frames written, over every sequence
 };
 
 /// "keep", "remove" or "rough"; bad_arguments for another name.
 UnseenMode unseen_mode(const std::string& name);
 
-/// Built-in presets: "tiny", "demo", "full", "studio", "studio_tiny"; bad_arguments for another name.
+/// Built-in presets: "tiny", "demo", "full", "studio", "studio_tiny", "long"; bad_arguments for another name.
 Scene preset_scene(const std::string& name);
 std::vector<std::string> preset_names();
 

@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <functional>
+#include <numeric>
+#include <set>
+#include <tuple>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -162,6 +166,55 @@ TEST(SimilarityMatrix, ShardedRowsEqualTheWholeMatrixByteForByte) {
   // Frame 7 (last of sequence 1) vs frame 2: k = -2..0.
   EXPECT_NEAR(whole(7, 2), (d(5, 0) + d(6, 1) + d(7, 2)) / 3.0, 1e-5);
   EXPECT_EQ(whole(4, 4), 0.0f);
+}
+
+/// Kruskal's tree over every edge in (cost, a, b) order: the reference the dense tree must equal.
+std::set<std::pair<int, int>> kruskal_reference(const Eigen::MatrixXd& costs, double threshold, int& kept) {
+  const int n = static_cast<int>(costs.rows());
+  std::vector<std::tuple<double, int, int>> edges;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) edges.emplace_back(0.5 * (costs(i, j) + costs(j, i)), i, j);
+  std::sort(edges.begin(), edges.end());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  std::function<int(int)> find = [&](int x) { return parent[static_cast<std::size_t>(x)] == x ? x : find(parent[static_cast<std::size_t>(x)]); };
+  std::set<std::pair<int, int>> tree;
+  kept = 0;
+  for (const auto& [cost, a, b] : edges)
+    if (find(a) != find(b)) {
+      parent[static_cast<std::size_t>(find(a))] = find(b);
+      tree.insert({a, b});
+      kept += cost <= threshold;
+    }
+  return tree;
+}
+
+TEST(SpanningTree, DenseTreeIsKruskalsWithTiesAndTheSameFromFloatCosts) {
+  std::mt19937 random(3);
+  std::uniform_int_distribution<int> level(1, 6);  // few distinct costs: many ties
+  const int n = 60;
+  RowMatrix stored(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) stored(i, j) = i == j ? 0.0f : 0.125f * static_cast<float>(level(random));
+  const Eigen::MatrixXd costs = stored.cast<double>();
+  const auto from_double = similarity::similarity_tree(costs);
+  const auto from_float = similarity::similarity_tree(stored);
+  int kept = 0;
+  const auto reference = kruskal_reference(costs, from_double.threshold, kept);
+  std::set<std::pair<int, int>> edges;
+  for (const auto& e : from_double.edges) edges.insert({std::min(e.parent, e.child), std::max(e.parent, e.child)});
+  EXPECT_EQ(edges, reference);
+  EXPECT_EQ(from_double.components_after_pruning, n - kept);
+  EXPECT_EQ(from_double.joining_edges, from_double.components_after_pruning > 1 ? n - 1 - kept : 0);
+  EXPECT_EQ(from_double.threshold, similarity::automatic_threshold(stored));
+  ASSERT_EQ(from_float.edges.size(), from_double.edges.size());
+  for (std::size_t e = 0; e < from_float.edges.size(); ++e) {
+    EXPECT_EQ(from_float.edges[e].parent, from_double.edges[e].parent);
+    EXPECT_EQ(from_float.edges[e].child, from_double.edges[e].child);
+  }
+  EXPECT_EQ(from_float.root, from_double.root);
+  EXPECT_EQ(from_float.total_cost, from_double.total_cost);
+  EXPECT_EQ(from_float.weighted_depth, from_double.weighted_depth);
 }
 
 }  // namespace

@@ -212,5 +212,43 @@ TEST(SynthCapture, SameSeedGivesByteIdenticalOutputOnAnyThreadCount) {
   EXPECT_GT(compared, scene.total_frames() * 3);
 }
 
+TEST(SynthCapture, ACutWritesTheWholeCapturesFirstFramesByteForByte) {
+  testing::TemporaryDirectory directory("synth-cut");
+  synth::Scene scene = synth::preset_scene("tiny");
+  scene.images = false;
+  scene.sequences = {scene.sequences[0], scene.sequences[3]};  // walk, jump_high
+  scene.sequences[0].frames = 10;
+  scene.sequences[1].frames = 12;
+  core::StageReport whole_report("synth");
+  synth::generate_capture(scene, directory / "whole", 2, whole_report);
+  synth::Scene cut = scene;
+  cut.frames_per_sequence = 4;
+  core::StageReport cut_report("synth");
+  synth::generate_capture(cut, directory / "cut", 2, cut_report);
+
+  const auto capture_json = core::read_json_document(directory / "cut/capture.json", "capture", 1);
+  ASSERT_EQ(capture_json["sequences"].size(), 2u);
+  const core::AlignedDatabase whole_truth = core::read_database(directory / "whole/ground_truth/database/database.json");
+  const core::AlignedDatabase cut_truth = core::read_database(directory / "cut/ground_truth/database/database.json");
+  for (std::size_t s = 0; s < 2; ++s) {
+    const std::string name = scene.sequences[s].name;
+    EXPECT_EQ(capture_json["sequences"][s]["count"], 4);
+    for (int t = 0; t < 4; ++t) {
+      for (const std::string file : {name + "/mesh/" + frame_file(t) + ".ply",
+                                     "ground_truth/" + name + "/correspondence/" + frame_file(t) + ".face.npy",
+                                     "ground_truth/" + name + "/correspondence/" + frame_file(t) + ".barycentric.npy"})
+        EXPECT_EQ(file_bytes(directory / "cut" / file), file_bytes(directory / "whole" / file)) << file;
+      EXPECT_TRUE(cut_truth.sequences[s].frames[static_cast<std::size_t>(t)] ==
+                  whole_truth.sequences[s].frames[static_cast<std::size_t>(t)]);
+      EXPECT_EQ(cut_truth.sequences[s].root_motion[static_cast<std::size_t>(t)].heading,
+                whole_truth.sequences[s].root_motion[static_cast<std::size_t>(t)].heading);
+    }
+    EXPECT_EQ(cut_truth.sequences[s].frame_count(), 4);
+    EXPECT_TRUE(fs::exists(directory / "whole" / name / "mesh" / (frame_file(4) + ".ply")));
+    EXPECT_FALSE(fs::exists(directory / "cut" / name / "mesh" / (frame_file(4) + ".ply")));
+  }
+  EXPECT_EQ(cut_report.to_json()["frames"], 8);
+}
+
 }  // namespace
 }  // namespace surfcap

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -220,6 +221,59 @@ TEST(Scene, ConfigFilesAreThePresets) {
     const auto path = std::filesystem::path(SURFCAP_SOURCE_DIR) / "configs/synth" / (name + ".json");
     const synth::Scene from_file = synth::read_scene(path);
     EXPECT_EQ(synth::scene_to_json(from_file), synth::scene_to_json(synth::preset_scene(name))) << path;
+  }
+}
+
+TEST(Scene, LongPresetHoldsTwoThousandFramesOfVariedTakes) {
+  const synth::Scene scene = synth::preset_scene("long");
+  EXPECT_NO_THROW(scene.validate());
+  EXPECT_GE(scene.total_frames(), 2000);
+  EXPECT_GE(scene.sequences.size(), 20u);
+  EXPECT_FALSE(scene.images);
+  EXPECT_EQ(scene.body.target_vertices, 8000);
+  EXPECT_FALSE(scene.reconstruction.studio());
+  // Each family performed at many settings of its parameters, turning both ways.
+  std::map<synth::MotionFamily, std::set<double>> settings;
+  std::set<double> turns;
+  for (const auto& m : scene.sequences) {
+    EXPECT_GE(m.frames, 32) << m.name;
+    if (m.family == synth::MotionFamily::gait) settings[m.family].insert(m.speed), turns.insert(m.turn_rate);
+    if (m.family == synth::MotionFamily::jump) settings[m.family].insert(100 * m.jump_height + m.jump_distance);
+    if (m.family == synth::MotionFamily::reach) settings[m.family].insert(m.reach_height);
+  }
+  EXPECT_GE(settings[synth::MotionFamily::gait].size(), 6u);
+  EXPECT_GE(settings[synth::MotionFamily::jump].size(), 6u);
+  EXPECT_GE(settings[synth::MotionFamily::reach].size(), 6u);
+  EXPECT_LT(*turns.begin(), 0);
+  EXPECT_GT(*turns.rbegin(), 0);
+}
+
+TEST(Scene, ACutCountsTheFirstFramesOfEachSequence) {
+  synth::Scene scene = synth::preset_scene("long");
+  const long whole = scene.total_frames();
+  scene.frames_per_sequence = 18;
+  EXPECT_EQ(scene.total_frames(), 18 * static_cast<long>(scene.sequences.size()));
+  scene.frames_per_sequence = 100;
+  long expected = 0;
+  for (const auto& m : scene.sequences) {
+    EXPECT_EQ(scene.written_frames(m), std::min(m.frames, 100)) << m.name;
+    expected += std::min(m.frames, 100);
+  }
+  EXPECT_EQ(scene.total_frames(), expected);
+  EXPECT_LT(expected, whole);
+  // The cut travels with the scene file; a scene without one writes no such field.
+  const core::Json document = synth::scene_to_json(scene);
+  EXPECT_EQ(document.at("frames_per_sequence"), 100);
+  EXPECT_EQ(synth::scene_from_json(document, "scene.json").total_frames(), expected);
+  EXPECT_FALSE(synth::scene_to_json(synth::preset_scene("long")).contains("frames_per_sequence"));
+  for (const int bad : {-1, 1}) {
+    scene.frames_per_sequence = bad;
+    try {
+      scene.validate();
+      ADD_FAILURE() << bad;
+    } catch (const core::Error& e) {
+      EXPECT_EQ(e.code(), core::ExitCode::bad_arguments) << e.what();
+    }
   }
 }
 
