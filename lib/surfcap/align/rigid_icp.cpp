@@ -15,31 +15,6 @@ struct ColoredTarget::Index {
   std::unique_ptr<flann::Index<flann::L2_Simple<float>>> tree;
 };
 
-namespace {
-
-/// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, §5.1.5).
-Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                    const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denominator = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denominator) + ac * (vc * denominator);
-}
-
-}  // namespace
 
 ColoredTarget::ColoredTarget(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors,
                              double scale)
@@ -96,7 +71,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> ColoredTarget::closest_around(int ve
   double best_distance = std::numeric_limits<double>::infinity();
   for (int r = ring_start_[static_cast<std::size_t>(vertex)]; r < ring_start_[static_cast<std::size_t>(vertex) + 1]; ++r) {
     const int f = ring_faces_[static_cast<std::size_t>(r)];
-    const Eigen::Vector3d q = closest_on_triangle(p, V_.row(F_(f, 0)).transpose(), V_.row(F_(f, 1)).transpose(),
+    const Eigen::Vector3d q = geometry::closest_point_on_triangle(p, V_.row(F_(f, 0)).transpose(), V_.row(F_(f, 1)).transpose(),
                                                   V_.row(F_(f, 2)).transpose());
     const double distance = (q - p).squaredNorm();
     if (distance < best_distance) {
@@ -111,8 +86,9 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> ColoredTarget::closest_around(int ve
 bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen::Vector3d& point,
                               const Eigen::Vector3d& normal, double max_distance, double normal_compatibility,
                               geometry::SurfacePoint& closest) {
-  closest = target.closest_point(point);
-  if (closest.distance > max_distance) return false;
+  const auto within = target.closest_point_within(point, max_distance);
+  if (!within || within->distance > max_distance) return false;
+  closest = *within;
   return target.face_normal(closest.face).dot(normal) >= normal_compatibility;
 }
 
@@ -224,7 +200,10 @@ Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) 
 
 double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate) {
   double sum = 0;
-  for (long i = 0; i < points.rows(); ++i) sum += std::min(gate, target.closest_point(points.row(i).transpose()).distance);
+  for (long i = 0; i < points.rows(); ++i) {
+    const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
+    sum += closest ? std::min(gate, closest->distance) : gate;
+  }
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
 }
 
