@@ -27,11 +27,9 @@ class SurfaceQuery {
 
   /// The closest surface point to `point`. Thread-safe (const queries on a built tree).
   SurfacePoint closest_point(const Eigen::Vector3d& point) const;
-  /// The closest surface point within `max_distance` of `point` (nullopt: none) — closest_point's
-  /// point up to rounding, by a separate search for the alignment's many queries: a bounding-volume
-  /// hierarchy visited nearest box first, pruned to the bound, with a direct point–triangle test.
-  /// Where several faces share the closest point (an edge, a vertex) the first one visited is
-  /// returned. Deterministic; thread-safe.
+  /// closest_point(point) when it lies within `max_distance` — bit for bit the same point, face and
+  /// distance — and nullopt otherwise (or possibly a point at most 1e-9 relative beyond the bound:
+  /// callers keep their distance test). Prunes the search to the bound: cheap when nothing is near.
   std::optional<SurfacePoint> closest_point_within(const Eigen::Vector3d& point, double max_distance) const;
   /// The first intersection of the ray origin + s·direction, s > 0; nullopt if it misses.
   std::optional<SurfacePoint> first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
@@ -52,10 +50,6 @@ class SurfaceQuery {
   Eigen::MatrixXi F_;
   Eigen::MatrixXd face_normals_;
 };
-
-/// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, §5.1.5).
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                          const Eigen::Vector3d& c);
 
 /// Barycentric coordinates of p's projection onto triangle (a, b, c) (summing to 1).
 Eigen::Vector3d barycentric_coordinates(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,

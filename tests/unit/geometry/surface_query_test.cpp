@@ -27,7 +27,7 @@ TEST(SurfaceQuery, ClosestPointLiesOnTheSphereAndRecoversItsBarycentrics) {
   }
 }
 
-TEST(SurfaceQuery, BoundedSearchFindsClosestPointsPointWithinTheBoundAndNothingBeyond) {
+TEST(SurfaceQuery, BoundedSearchIsClosestPointWithinTheBoundAndNothingBeyond) {
   // A bumpy, unevenly tessellated surface and points inside, outside and far away.
   core::Mesh sphere = testing::make_sphere(17, 31, 1.0);
   for (long v = 0; v < sphere.V.rows(); ++v)
@@ -49,8 +49,9 @@ TEST(SurfaceQuery, BoundedSearchFindsClosestPointsPointWithinTheBoundAndNothingB
       if (exact.distance < bound * (1 - 1e-9)) ASSERT_TRUE(within.has_value()) << i;
       if (!within) continue;
       ++found;
-      EXPECT_NEAR(within->distance, exact.distance, 1e-12) << i;
-      EXPECT_LT((within->position - exact.position).norm(), 1e-9) << i;
+      EXPECT_EQ(within->face, exact.face) << i;  // bit for bit closest_point's
+      EXPECT_EQ(within->distance, exact.distance) << i;
+      EXPECT_TRUE(within->position == exact.position) << i;
       const Eigen::Vector3d rebuilt = within->barycentric(0) * sphere.V.row(sphere.F(within->face, 0)).transpose() +
                                       within->barycentric(1) * sphere.V.row(sphere.F(within->face, 1)).transpose() +
                                       within->barycentric(2) * sphere.V.row(sphere.F(within->face, 2)).transpose();
