@@ -1,4 +1,4 @@
-// Pairwise non-rigid alignment at ~3k template vertices on one core (target ≤ 2 s), with
+// Pairwise non-rigid alignment at ~3k and ~10k template vertices on one core, with
 // the split reported as counters: tetrahedralisation (once per template), factorisation,
 // matching (closest points, ICP) and solves (rotation fits + back-substitution).
 #include <benchmark/benchmark.h>
@@ -33,10 +33,11 @@ Eigen::MatrixXd part_colours(const Eigen::MatrixXd& rest) {
   return colours;
 }
 
-void pairwise_alignment_3k(benchmark::State& state, bool colours) {
+/// `rings`×`segments` template tessellation; the target's has about 1.09 times the vertices.
+void pairwise_alignment(benchmark::State& state, bool colours, int rings, int segments) {
   omp_set_num_threads(1);
-  core::Mesh template_mesh = align::testing::ellipsoid(40, 76);
-  const core::Mesh target_rest = align::testing::ellipsoid(47, 70);
+  core::Mesh template_mesh = align::testing::ellipsoid(rings, segments);
+  const core::Mesh target_rest = align::testing::ellipsoid(rings * 47 / 40, segments * 70 / 76);
   const Eigen::MatrixXd target_V = align::testing::deform_points(target_rest.V, 0.6, 0.5, {0.05, 0.02, -0.04});
   Eigen::MatrixXd target_colours;
   if (colours) {
@@ -71,13 +72,17 @@ void pairwise_alignment_3k(benchmark::State& state, bool colours) {
   if (colours) state.counters["colour_patches"] = static_cast<double>(colour_patches);
 }
 
-void BM_PairwiseAlignment3k(benchmark::State& state) { pairwise_alignment_3k(state, false); }
+void BM_PairwiseAlignment3k(benchmark::State& state) { pairwise_alignment(state, false, 40, 76); }
 BENCHMARK(BM_PairwiseAlignment3k)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // The same with vertex colours on both meshes: the colour-aware patch fits at the two coarsest
 // levels (one more ICP per patch there, a k-d tree over the target) and the photometric dense fit.
-void BM_PairwiseAlignment3kColour(benchmark::State& state) { pairwise_alignment_3k(state, true); }
+void BM_PairwiseAlignment3kColour(benchmark::State& state) { pairwise_alignment(state, true, 40, 76); }
 BENCHMARK(BM_PairwiseAlignment3kColour)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The same body at 69·144 + 2 = 9,938 template vertices (a studio reconstruction's resolution).
+void BM_PairwiseAlignment10k(benchmark::State& state) { pairwise_alignment(state, false, 70, 144); }
+BENCHMARK(BM_PairwiseAlignment10k)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 // Image features of one frame seen by 8 cameras at 640×640 (detection + back-projection), and the
 // matching of two such frames (FLANN both ways, ratio, mutual, neighbour check), one core.

@@ -1,5 +1,7 @@
 // surfcap-align: capture folder → aligned database (docs/align.md). Each command is one library
 // stage (similarity/similarity_stages.hpp, evaluation/register_stage.hpp); `run` chains them.
+#include <malloc.h>
+
 #include "surfcap/core/cli.hpp"
 #include "surfcap/core/option_table.hpp"
 #include "surfcap/evaluation/register_stage.hpp"
@@ -28,6 +30,11 @@ void add_register_options(CLI::App* command, evaluation::RegisterStageOptions& o
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The alignment allocates and frees image-sized buffers (renderings, flow fields, pyramids) many
+  // times per frame: kept in the heap instead of mapped and returned each time, they cost no page
+  // faults (zeroing fresh pages is most of the system time otherwise).
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   core::ToolApp app("surfcap-align", "surfcap-align: capture folder → aligned database (shape similarity tree, "
                                      "non-rigid alignment)");
   std::string capture, out;

@@ -5,6 +5,7 @@
 #include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/feature_constraints.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/align/pairwise_checks.hpp"
 
 namespace surfcap::align {
 
@@ -18,15 +19,19 @@ CoverageTargets::CoverageTargets(const AlignmentTemplate& model, const geometry:
 void CoverageTargets::add(const Eigen::MatrixXd& surface, double reach, TargetSet& targets,
                           PairwiseResult& result) const {
   if (!options_.coverage.weight) return;
-  const geometry::SurfaceQuery aligned(surface, model_.mesh().F);
   const double gate = options_.checks.uncovered_distance_edges * model_.mean_edge();
   std::vector<FeatureConstraint> pulls;
-  for (long i = 0; i < target_.vertices().rows(); ++i) {
-    const Eigen::Vector3d x = target_.vertices().row(i).transpose();
-    const geometry::SurfacePoint closest = aligned.closest_point(x);
-    if (closest.face < 0 || closest.distance <= gate || closest.distance > reach) continue;
-    if (aligned.face_normal(closest.face).dot(target_normals_.row(i).transpose()) < options_.normal_compatibility) continue;
-    pulls.push_back({closest.face, closest.barycentric, x});
+  const std::vector<long> far = far_from_vertices(target_.vertices(), surface, gate);
+  if (!far.empty()) {
+    const geometry::SurfaceQuery aligned(surface, model_.mesh().F);
+    for (const long i : far) {
+      const Eigen::Vector3d x = target_.vertices().row(i).transpose();
+      const auto closest = aligned.closest_point_within(x, reach);
+      if (!closest || closest->face < 0 || closest->distance <= gate || closest->distance > reach) continue;
+      if (aligned.face_normal(closest->face).dot(target_normals_.row(i).transpose()) < options_.normal_compatibility)
+        continue;
+      pulls.push_back({closest->face, closest->barycentric, x});
+    }
   }
   result.coverage_constraints = static_cast<long>(pulls.size());
   add_feature_targets(surface, model_.mesh().F, pulls, *options_.coverage.weight, targets.positions, targets.weights);

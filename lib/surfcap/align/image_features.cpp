@@ -14,15 +14,52 @@ namespace surfcap::align {
 
 namespace {
 
-/// Keypoints in a deterministic order (OpenCV's SIFT collects them from parallel workers).
-void sort_keypoints(std::vector<cv::KeyPoint>& keypoints) {
-  std::sort(keypoints.begin(), keypoints.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
-    if (a.response != b.response) return a.response > b.response;
-    if (a.pt.y != b.pt.y) return a.pt.y < b.pt.y;
-    if (a.pt.x != b.pt.x) return a.pt.x < b.pt.x;
-    if (a.size != b.size) return a.size < b.size;
-    return a.angle < b.angle;
+/// A deterministic order of keypoints, strongest first (OpenCV's SIFT collects them from parallel
+/// workers).
+bool stronger(const cv::KeyPoint& a, const cv::KeyPoint& b) {
+  if (a.response != b.response) return a.response > b.response;
+  if (a.pt.y != b.pt.y) return a.pt.y < b.pt.y;
+  if (a.pt.x != b.pt.x) return a.pt.x < b.pt.x;
+  if (a.size != b.size) return a.size < b.size;
+  return a.angle < b.angle;
+}
+
+/// SIFT's octave of a keypoint (−1: the doubled image).
+int keypoint_octave(const cv::KeyPoint& keypoint) {
+  return static_cast<int>(static_cast<signed char>(keypoint.octave & 255));
+}
+
+/// The `limit` strongest SIFT keypoints of `image` (strongest first) and their descriptors
+/// (rows follow the keypoints). One Gaussian pyramid serves detection and description. The
+/// descriptors are those SIFT computes for the kept keypoints on their own (detect, then compute):
+/// that computation builds the same pyramid from the doubled image whenever a kept keypoint lies
+/// on it, and is what runs when none does.
+void detect_strongest(cv::SIFT& sift, const cv::Mat& image, int limit, std::vector<cv::KeyPoint>& keypoints,
+                      cv::Mat& descriptors) {
+  std::vector<cv::KeyPoint> all;
+  cv::Mat all_descriptors;
+  sift.detectAndCompute(image, cv::noArray(), all, all_descriptors);
+  std::vector<int> order(all.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  // Equal in every field: the same keypoint found twice, either row will do.
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return stronger(all[static_cast<std::size_t>(a)], all[static_cast<std::size_t>(b)]);
   });
+  if (static_cast<int>(order.size()) > limit) order.resize(static_cast<std::size_t>(std::max(0, limit)));
+  keypoints.clear();
+  bool doubled = false;
+  for (const int i : order) {
+    keypoints.push_back(all[static_cast<std::size_t>(i)]);
+    doubled = doubled || keypoint_octave(keypoints.back()) < 0;
+  }
+  if (keypoints.empty()) return;
+  if (!doubled || all_descriptors.rows != static_cast<int>(all.size())) {
+    sift.compute(image, keypoints, descriptors);
+    return;
+  }
+  descriptors.create(static_cast<int>(keypoints.size()), all_descriptors.cols, all_descriptors.type());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    all_descriptors.row(order[k]).copyTo(descriptors.row(static_cast<int>(k)));
 }
 
 using Descriptors = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -76,13 +113,10 @@ FrameFeatures detect_frame_features(const core::Capture& capture, int sequence, 
     const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
     if (image.empty()) throw core::bad_input(path, "unreadable camera image", frame);
     std::vector<cv::KeyPoint> keypoints;
-    sift->detect(image, keypoints);
-    sort_keypoints(keypoints);
-    if (static_cast<int>(keypoints.size()) > options.max_per_image) keypoints.resize(options.max_per_image);
+    cv::Mat descriptors;
+    detect_strongest(*sift, image, options.max_per_image, keypoints, descriptors);
     features.detected += static_cast<long>(keypoints.size());
     if (keypoints.empty()) continue;
-    cv::Mat descriptors;
-    sift->compute(image, keypoints, descriptors);  // may drop keypoints (in order): rows follow `keypoints`
     // Undistorted normalised coordinates of the keypoints → camera rays → first surface hit.
     std::vector<cv::Point2f> pixels;
     for (const auto& keypoint : keypoints) pixels.push_back(keypoint.pt);

@@ -132,10 +132,10 @@ class PairwiseSchedule {
 
   void solve(const TargetSet& targets) {
     auto begin = Clock::now();
-    const geometry::SparseCholesky solver = model_.deformer().factor(targets.weights);
+    model_.deformer().factor(targets.weights, solver_);
     result_.timings.factorisation += seconds_since(begin);
     begin = Clock::now();
-    positions_ = model_.deformer().deform(solver, positions_, targets.positions, targets.weights,
+    positions_ = model_.deformer().deform(solver_, positions_, targets.positions, targets.weights,
                                           options_.rotation_iterations);
     result_.timings.solves += seconds_since(begin);
   }
@@ -147,7 +147,7 @@ class PairwiseSchedule {
     const Eigen::VectorXd distances = surface_distances(aligned, target_);
     result_.mean_residual = distances.mean();
     result_.max_residual = distances.maxCoeff();
-    result_.uncovered_fraction = uncovered_fraction(target_, geometry::SurfaceQuery(aligned, model_.mesh().F),
+    result_.uncovered_fraction = uncovered_fraction(target_, aligned, model_.mesh().F,
                                                     options_.checks.uncovered_distance_edges * model_.mean_edge());
     result_.stacked_fraction = stacked_fraction(model_.mesh().V, aligned, model_.mesh().F,
                                                 options_.checks.stacked_distance_edges * model_.mean_edge(),
@@ -164,6 +164,7 @@ class PairwiseSchedule {
   Eigen::MatrixXd positions_;
   PairwiseResult result_;
   std::vector<FeatureConstraint> feature_targets_;
+  geometry::SparseCholesky solver_;  ///< refactored by every solve (one symbolic analysis per pair)
   PatchTargets patches_;
   DenseTargets dense_;
   CoverageTargets coverage_;

@@ -26,10 +26,34 @@ Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry
   return distances;
 }
 
-double uncovered_fraction(const geometry::SurfaceQuery& target, const geometry::SurfaceQuery& aligned, double gate) {
+std::vector<long> far_from_vertices(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V, double gate) {
+  std::vector<long> far;
+  if (!(gate > 0)) {
+    for (long i = 0; i < points.rows(); ++i) far.push_back(i);
+    return far;
+  }
+  const geometry::VertexGrid grid(V, gate);
+  const double near2 = gate * (1 - 1e-9) * gate * (1 - 1e-9);
+  for (long i = 0; i < points.rows(); ++i) {
+    const Eigen::Vector3d x = points.row(i).transpose();
+    bool near = false;
+    grid.around(x, [&](long v) { near = near || (V.row(v).transpose() - x).squaredNorm() <= near2; });
+    if (!near) far.push_back(i);
+  }
+  return far;
+}
+
+double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& aligned,
+                          const Eigen::MatrixXi& F, double gate) {
+  const std::vector<long> far = far_from_vertices(target.vertices(), aligned, gate);
   long uncovered = 0;
-  for (long i = 0; i < target.vertices().rows(); ++i)
-    if (aligned.closest_point(target.vertices().row(i).transpose()).distance > gate) ++uncovered;
+  if (!far.empty()) {
+    const geometry::SurfaceQuery query(aligned, F);
+    for (const long i : far) {
+      const auto closest = query.closest_point_within(target.vertices().row(i).transpose(), gate);
+      if (!closest || closest->distance > gate) ++uncovered;
+    }
+  }
   return target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows())
                                       : 0.0;
 }

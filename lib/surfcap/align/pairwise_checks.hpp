@@ -9,6 +9,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "surfcap/core/option_table.hpp"
 #include "surfcap/geometry/surface_query.hpp"
@@ -67,8 +68,16 @@ struct FailureOptions {
 /// Per surface vertex of `surface` (n×3 template connectivity): distance to the target surface.
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
 
-/// Fraction of the target's vertices farther than `gate` from `aligned` (the posed template).
-double uncovered_fraction(const geometry::SurfaceQuery& target, const geometry::SurfaceQuery& aligned, double gate);
+/// Fraction of the target's vertices farther than `gate` from the surface (`aligned`, `F`): the
+/// posed template.
+double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& aligned,
+                          const Eigen::MatrixXi& F, double gate);
+
+/// The rows of `points` with no row of `V` within `gate` (ascending): the only points whose
+/// closest point on a surface with vertices `V` can lie farther than `gate` (a surface is never
+/// farther than its nearest vertex). The rest lie within `gate` of the surface for certain, with
+/// a relative margin of 1e-9 for the rounding of the closest-point computation.
+std::vector<long> far_from_vertices(const Eigen::MatrixXd& points, const Eigen::MatrixXd& V, double gate);
 
 /// Fraction of the vertices of `aligned` (the template surface posed, faces F) in stacked layers:
 /// within `distance` of another vertex with a normal at less than 60° from theirs that lies more

@@ -17,13 +17,13 @@ double colour_disagreement(const Eigen::MatrixXd& points, const Eigen::MatrixXd&
                            const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors, double gate) {
   double sum = 0;
   for (long i = 0; i < points.rows(); ++i) {
-    const geometry::SurfacePoint closest = target.closest_point(points.row(i).transpose());
-    if (closest.face < 0 || closest.distance > gate) {
+    const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
+    if (!closest || closest->face < 0 || closest->distance > gate) {
       sum += 1;
       continue;
     }
     Eigen::RowVector3d colour = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) colour += closest.barycentric[k] * target_colors.row(target.faces()(closest.face, k));
+    for (int k = 0; k < 3; ++k) colour += closest->barycentric[k] * target_colors.row(target.faces()(closest->face, k));
     sum += std::min(1.0, (colour - colors.row(i)).squaredNorm());
   }
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;

@@ -111,8 +111,9 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> ColoredTarget::closest_around(int ve
 bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen::Vector3d& point,
                               const Eigen::Vector3d& normal, double max_distance, double normal_compatibility,
                               geometry::SurfacePoint& closest) {
-  closest = target.closest_point(point);
-  if (closest.distance > max_distance) return false;
+  const auto within = target.closest_point_within(point, max_distance);
+  if (!within || within->distance > max_distance) return false;
+  closest = *within;
   return target.face_normal(closest.face).dot(normal) >= normal_compatibility;
 }
 
@@ -224,7 +225,10 @@ Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) 
 
 double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate) {
   double sum = 0;
-  for (long i = 0; i < points.rows(); ++i) sum += std::min(gate, target.closest_point(points.row(i).transpose()).distance);
+  for (long i = 0; i < points.rows(); ++i) {
+    const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
+    sum += closest ? std::min(gate, closest->distance) : gate;
+  }
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
 }
 

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "surfcap/core/error.hpp"
@@ -59,6 +60,26 @@ struct TreeState {
   FrameFeatures detect_features(const NodeFrame& node, const geometry::SurfaceQuery& reconstruction) const {
     return detect_frame_features(capture, node.sequence, node.frame, reconstruction, options.pairwise.feature);
   }
+
+  /// The image features of `node` as an alternative parent (its own were released with its
+  /// depth): detected once and shared by the edges that try it. A frame's features are the same
+  /// whenever they are detected, so which ones are kept (the last 16) does not change the result.
+  std::shared_ptr<const FrameFeatures> alternative_features(long node) {
+    {
+      const std::lock_guard<std::mutex> lock(alternatives_mutex);
+      const auto found = alternatives.find(node);
+      if (found != alternatives.end()) return found->second;
+    }
+    const NodeFrame source = nodes[static_cast<std::size_t>(node)];
+    const core::Mesh mesh = read_reconstruction(capture, source);
+    auto detected = std::make_shared<const FrameFeatures>(detect_features(source, geometry::SurfaceQuery(mesh.V, mesh.F)));
+    const std::lock_guard<std::mutex> lock(alternatives_mutex);
+    if (alternatives.size() >= 16) alternatives.erase(alternatives.begin());
+    alternatives.emplace(node, detected);
+    return detected;
+  }
+  std::mutex alternatives_mutex;
+  std::map<long, std::shared_ptr<const FrameFeatures>> alternatives;
 };
 
 /// One edge of the tree: the child aligned from its tree parent, and from other parents when that
@@ -120,16 +141,14 @@ class EdgeAlignment {
   }
 
   /// The image features of parent and child; an alternative parent's were released with its depth
-  /// and are detected again into `other`.
-  FeaturePair feature_pair(long from, FrameFeatures& other) const {
+  /// and come from TreeState::alternative_features (held by `other`).
+  FeaturePair feature_pair(long from, std::shared_ptr<const FrameFeatures>& other) const {
     FeaturePair pair;
     if (state_.use_features) {
       pair.parent = &state_.features[static_cast<std::size_t>(from)];
       if (from != edge_.parent) {
-        const NodeFrame source = state_.nodes[static_cast<std::size_t>(from)];
-        const core::Mesh mesh = read_reconstruction(state_.capture, source);
-        other = state_.detect_features(source, geometry::SurfaceQuery(mesh.V, mesh.F));
-        pair.parent = &other;
+        other = state_.alternative_features(from);
+        pair.parent = other.get();
       }
       pair.child = &state_.features[static_cast<std::size_t>(edge_.child)];
     }
@@ -142,7 +161,7 @@ class EdgeAlignment {
 
   /// One attempt from `from`; nullopt (and a record of why) if it throws, recorded if it fits badly.
   std::optional<PairwiseResult> attempt(long from) {
-    FrameFeatures other;
+    std::shared_ptr<const FrameFeatures> other;
     const FeaturePair pair = feature_pair(from, other);
     try {
       const Eigen::MatrixXd& parent = state_.positions[static_cast<std::size_t>(from)];

@@ -64,6 +64,14 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
 }
 
 geometry::SparseCholesky VolumeDeformer::factor(const Eigen::VectorXd& weights) const {
+  return geometry::SparseCholesky(system(weights));
+}
+
+void VolumeDeformer::factor(const Eigen::VectorXd& weights, geometry::SparseCholesky& solver) const {
+  solver.refactor(system(weights));
+}
+
+Eigen::SparseMatrix<double> VolumeDeformer::system(const Eigen::VectorXd& weights) const {
   if (weights.size() != surface_vertices_) throw core::internal_error("VolumeDeformer::factor: weight count");
   if (!(weights.array() >= 0).all() || weights.maxCoeff() <= 0)
     throw core::internal_error("VolumeDeformer::factor: weights must be ≥ 0 with one positive");
@@ -73,7 +81,8 @@ geometry::SparseCholesky VolumeDeformer::factor(const Eigen::VectorXd& weights) 
   // Interior-only components (none for a connected tet mesh) would be singular: a tiny
   // regulariser keeps the factorisation positive definite without biasing the result.
   for (long i = 0; i < A.rows(); ++i) A.coeffRef(i, i) += 1e-9;
-  return geometry::SparseCholesky(A);
+  A.makeCompressed();
+  return A;
 }
 
 Eigen::MatrixXd VolumeDeformer::rotated_gradients(const Eigen::MatrixXd& positions) const {

@@ -52,6 +52,9 @@ class VolumeDeformer {
   /// A factorisation of L + diag(weights) (weights per surface vertex, ≥ 0, dimensionless:
   /// relative to the mean diagonal of L on the surface; at least one must be positive).
   geometry::SparseCholesky factor(const Eigen::VectorXd& weights) const;
+  /// The same into `solver`, reusing the symbolic analysis of its previous factorisation (every
+  /// weight vector gives the pattern of L): the same factor, bit for bit, at less cost.
+  void factor(const Eigen::VectorXd& weights, geometry::SparseCholesky& solver) const;
 
   /// Iterates rotation fits and solves from `initial` (n×3 all vertices) towards `targets`
   /// (surface×3) with `weights` (the ones `solver` was factored with). Returns all vertices.
@@ -64,6 +67,8 @@ class VolumeDeformer {
 
  private:
   Eigen::MatrixXd rotated_gradients(const Eigen::MatrixXd& positions) const;
+  /// L + diag(weights) + a tiny regulariser (the matrix factor() factors).
+  Eigen::SparseMatrix<double> system(const Eigen::VectorXd& weights) const;
 
   std::string model_;
   Eigen::MatrixXd rest_;

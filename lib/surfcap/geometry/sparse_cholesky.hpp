@@ -16,6 +16,10 @@ class SparseCholesky {
   /// core::internal_error when A is not positive definite.
   explicit SparseCholesky(const Eigen::SparseMatrix<double>& A, Backend backend = Backend::automatic);
   ~SparseCholesky();
+  /// Factors A again, reusing the ordering and symbolic analysis of the previous factorisation
+  /// when A has its sparsity pattern (the same factor, bit for bit, as a fresh SparseCholesky(A)),
+  /// from scratch otherwise.
+  void refactor(const Eigen::SparseMatrix<double>& A);
   SparseCholesky(SparseCholesky&&) noexcept;
   SparseCholesky& operator=(SparseCholesky&&) noexcept;
 

@@ -6,6 +6,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 #include "surfcap/core/error.hpp"
@@ -23,6 +24,7 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point to_point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
 }  // namespace
 
 struct SurfaceQuery::Impl {
@@ -64,16 +66,40 @@ SurfaceQuery::~SurfaceQuery() = default;
 SurfaceQuery::SurfaceQuery(SurfaceQuery&&) noexcept = default;
 SurfaceQuery& SurfaceQuery::operator=(SurfaceQuery&&) noexcept = default;
 
-SurfacePoint SurfaceQuery::closest_point(const Eigen::Vector3d& point) const {
-  const auto [closest, primitive] = impl_->tree.closest_point_and_primitive(to_point(point));
+SurfacePoint SurfaceQuery::surface_point(const Eigen::Vector3d& point, const Eigen::Vector3d& position,
+                                         std::size_t triangle) const {
   SurfacePoint result;
-  const auto index = static_cast<std::size_t>(primitive - impl_->triangles.cbegin());
-  result.face = impl_->face_of[index];
-  result.position = to_eigen(closest);
+  result.face = impl_->face_of[triangle];
+  result.position = position;
   result.distance = (result.position - point).norm();
   result.barycentric = barycentric_coordinates(result.position, V_.row(F_(result.face, 0)),
                                                V_.row(F_(result.face, 1)), V_.row(F_(result.face, 2)));
   return result;
+}
+
+SurfacePoint SurfaceQuery::closest_point(const Eigen::Vector3d& point) const {
+  const auto [closest, primitive] = impl_->tree.closest_point_and_primitive(to_point(point));
+  return surface_point(point, to_eigen(closest), static_cast<std::size_t>(primitive - impl_->triangles.cbegin()));
+}
+
+std::optional<SurfacePoint> SurfaceQuery::closest_point_within(const Eigen::Vector3d& point,
+                                                               double max_distance) const {
+  // The tree starts from a hint and visits only boxes closer than the best point so far. With the
+  // default hint (the nearest primitive reference point) closer than the bound this is exactly
+  // closest_point. Otherwise the search starts from a virtual point just beyond the bound: every
+  // box holding a point at the minimal distance is still visited, in the same order, so a
+  // minimum within the bound comes out identical; when none is, the virtual point comes back.
+  const Point query = to_point(point);
+  Tree::Point_and_primitive_id hint = impl_->tree.best_hint(query);
+  const double bound = max_distance * (1 + 1e-9);
+  std::optional<Point> virtual_point;
+  if (CGAL::squared_distance(hint.first, query) > bound * bound) {
+    virtual_point = Point(point.x() + bound, point.y(), point.z());
+    hint = {*virtual_point, impl_->triangles.cbegin()};
+  }
+  const auto [closest, primitive] = impl_->tree.closest_point_and_primitive(query, hint);
+  if (virtual_point && closest == *virtual_point) return std::nullopt;
+  return surface_point(point, to_eigen(closest), static_cast<std::size_t>(primitive - impl_->triangles.cbegin()));
 }
 
 std::optional<SurfacePoint> SurfaceQuery::first_hit(const Eigen::Vector3d& origin,
@@ -83,13 +109,7 @@ std::optional<SurfacePoint> SurfaceQuery::first_hit(const Eigen::Vector3d& origi
   if (!hit) return std::nullopt;
   const Point* point = boost::get<Point>(&hit->first);
   if (point == nullptr) return std::nullopt;  // the ray runs inside a face's plane: no single hit point
-  SurfacePoint result;
-  result.face = impl_->face_of[static_cast<std::size_t>(hit->second - impl_->triangles.cbegin())];
-  result.position = to_eigen(*point);
-  result.distance = (result.position - origin).norm();
-  result.barycentric = barycentric_coordinates(result.position, V_.row(F_(result.face, 0)),
-                                               V_.row(F_(result.face, 1)), V_.row(F_(result.face, 2)));
-  return result;
+  return surface_point(origin, to_eigen(*point), static_cast<std::size_t>(hit->second - impl_->triangles.cbegin()));
 }
 
 }  // namespace surfcap::geometry

@@ -27,6 +27,10 @@ class SurfaceQuery {
 
   /// The closest surface point to `point`. Thread-safe (const queries on a built tree).
   SurfacePoint closest_point(const Eigen::Vector3d& point) const;
+  /// closest_point(point) when it lies within `max_distance` — bit for bit the same point, face and
+  /// distance — and nullopt otherwise (or possibly a point at most 1e-9 relative beyond the bound:
+  /// callers keep their distance test). Prunes the search to the bound: cheap when nothing is near.
+  std::optional<SurfacePoint> closest_point_within(const Eigen::Vector3d& point, double max_distance) const;
   /// The first intersection of the ray origin + s·direction, s > 0; nullopt if it misses.
   std::optional<SurfacePoint> first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
 
@@ -37,6 +41,9 @@ class SurfaceQuery {
   const Eigen::MatrixXi& faces() const { return F_; }
 
  private:
+  /// The SurfacePoint at `position` on primitive `triangle`, its distance from `point`.
+  SurfacePoint surface_point(const Eigen::Vector3d& point, const Eigen::Vector3d& position, std::size_t triangle) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   Eigen::MatrixXd V_;

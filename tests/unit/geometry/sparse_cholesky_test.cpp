@@ -29,6 +29,33 @@ TEST(SparseCholesky, SolvesSeveralRightHandSidesWithBothBackends) {
   EXPECT_EQ(SparseCholesky(A).backend(), SparseCholesky::Backend::cholmod);
 }
 
+TEST(SparseCholesky, RefactoringWithThePatternAnalysedGivesTheFreshFactorBitForBit) {
+  const Eigen::SparseMatrix<double> A = anchored_laplacian();
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Random(A.rows(), 3);
+  for (auto backend : {SparseCholesky::Backend::automatic, SparseCholesky::Backend::simplicial_ldlt}) {
+    SparseCholesky solver(A, backend);
+    for (int k = 1; k <= 3; ++k) {
+      // Other values on the same pattern: the symbolic analysis is reused.
+      Eigen::SparseMatrix<double> C = A;
+      for (long i = 0; i < C.rows(); i += k + 1) C.coeffRef(i, i) += 0.5 * k;
+      C.makeCompressed();
+      solver.refactor(C);
+      const Eigen::MatrixXd fresh = SparseCholesky(C, backend).solve(B), reused = solver.solve(B);
+      EXPECT_EQ(solver.backend(), SparseCholesky(C, backend).backend());
+      EXPECT_TRUE((fresh.array() == reused.array()).all()) << k;
+      EXPECT_LT((C * reused - B).norm() / B.norm(), 1e-9);
+    }
+  }
+  // Another pattern: factored from scratch.
+  SparseCholesky solver(A);
+  Eigen::SparseMatrix<double> D = A;
+  D.coeffRef(0, A.rows() - 1) += 1e-3;
+  D.coeffRef(A.rows() - 1, 0) += 1e-3;
+  D.makeCompressed();
+  solver.refactor(D);
+  EXPECT_LT((D * solver.solve(B) - B).norm() / B.norm(), 1e-9);
+}
+
 TEST(SparseCholesky, RejectsIndefiniteMatrix) {
   Eigen::SparseMatrix<double> A(2, 2);
   A.insert(0, 0) = 1;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "test_support.hpp"
 
 namespace surfcap::geometry {
@@ -23,6 +25,41 @@ TEST(SurfaceQuery, ClosestPointLiesOnTheSphereAndRecoversItsBarycentrics) {
     EXPECT_LT((rebuilt - closest.position).norm(), 1e-9);
     EXPECT_GT(query.face_normal(closest.face).dot(closest.position), 0.99);  // outward normals
   }
+}
+
+TEST(SurfaceQuery, BoundedSearchIsClosestPointWithinTheBoundAndNothingBeyond) {
+  // A bumpy, unevenly tessellated surface and points inside, outside and far away.
+  core::Mesh sphere = testing::make_sphere(17, 31, 1.0);
+  for (long v = 0; v < sphere.V.rows(); ++v)
+    sphere.V.row(v) *= 1.0 + 0.1 * std::sin(7 * sphere.V(v, 0)) * std::cos(5 * sphere.V(v, 1));
+  const SurfaceQuery query(sphere.V, sphere.F);
+  int found = 0, beyond = 0;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 0.37 * i;
+    const Eigen::Vector3d p = (0.2 + 0.006 * i) * Eigen::Vector3d(std::sin(t) * std::cos(2.3 * t), std::cos(t),
+                                                                   std::sin(t) * std::sin(2.3 * t));
+    const SurfacePoint exact = query.closest_point(p);
+    for (const double bound : {0.05, 0.3, 10.0}) {
+      const auto within = query.closest_point_within(p, bound);
+      if (exact.distance > bound * (1 + 1e-9)) {
+        EXPECT_FALSE(within.has_value()) << i;
+        ++beyond;
+        continue;
+      }
+      if (exact.distance < bound * (1 - 1e-9)) ASSERT_TRUE(within.has_value()) << i;
+      if (!within) continue;
+      ++found;
+      EXPECT_EQ(within->face, exact.face) << i;  // bit for bit closest_point's
+      EXPECT_EQ(within->distance, exact.distance) << i;
+      EXPECT_TRUE(within->position == exact.position) << i;
+      const Eigen::Vector3d rebuilt = within->barycentric(0) * sphere.V.row(sphere.F(within->face, 0)).transpose() +
+                                      within->barycentric(1) * sphere.V.row(sphere.F(within->face, 1)).transpose() +
+                                      within->barycentric(2) * sphere.V.row(sphere.F(within->face, 2)).transpose();
+      EXPECT_LT((rebuilt - within->position).norm(), 1e-9) << i;
+    }
+  }
+  EXPECT_GT(found, 400);
+  EXPECT_GT(beyond, 100);
 }
 
 TEST(SurfaceQuery, RayHitsTheNearSideAndMissesWhenPointingAway) {
