@@ -102,6 +102,22 @@ std::filesystem::path positions_path(const std::filesystem::path& path) {
   return std::filesystem::path(path).replace_extension(".npy");
 }
 
+/// Where two values differ, e.g. "/retries: 2, expected 3" (the first three JSON pointers).
+std::string differences(const core::Json& found, const core::Json& expected) {
+  const core::Json a = found.flatten(), b = expected.flatten();
+  std::string text;
+  int listed = 0;
+  for (const auto& [pointer, value] : b.items()) {
+    if (a.contains(pointer) && a.at(pointer) == value) continue;
+    if (listed++ == 3) return text + ", …";
+    text += (text.empty() ? "" : ", ") + (pointer.empty() ? "" : pointer + ": ") +
+            (a.contains(pointer) ? a.at(pointer).dump() : "none") + ", expected " + value.dump();
+  }
+  for (const auto& [pointer, value] : a.items())
+    if (!b.contains(pointer) && listed++ < 3) text += (text.empty() ? "" : ", ") + pointer + ": " + value.dump() + ", expected none";
+  return text;
+}
+
 std::string producer(const PartLabel& label) {
   return label.shard == 0 ? "`surfcap-align register --trunk`"
                           : "`surfcap-align register --shard " + std::to_string(label.shard) + "/" +
@@ -178,9 +194,9 @@ RegistrationPart read_registration_part(const std::filesystem::path& path, const
     const core::Json& found = document.at("context");
     for (const auto& [key, value] : context.items())
       if (!found.contains(key) || found.at(key) != value)
-        throw core::bad_input(path, "was aligned with another \"" + key + "\" (" +
-                                        (found.contains(key) ? found.at(key).dump() : "none") + ", expected " +
-                                        value.dump() + "): run " + producer(label) + " again");
+        throw core::bad_input(path, "was aligned with another " + key + " (" +
+                                        differences(found.contains(key) ? found.at(key) : core::Json(), value) +
+                                        "): run " + producer(label) + " again");
     if (document.at("nodes") != core::Json(nodes))
       throw core::bad_input(path, "holds other nodes than the partition gives its job");
     for (const auto& record : document.at("records")) part.records.push_back(record_from_json(record));

@@ -1,5 +1,5 @@
 #pragma once
-// The files registration jobs hand on (docs/pipelines.md "Registration jobs", docs/formats.md):
+// The files registration jobs hand on (docs/pipelines.md "Registration jobs"):
 // DB/register/trunk.{json,npy} from the trunk job and DB/register/shard-<k>-of-<K>.{json,npy}
 // from shard job k of K. The .npy holds the aligned nodes' deformer vertices (float64, nodes ×
 // volume vertices × 3, exact); the JSON (surfcap.register_part/1, written last, so it marks the

@@ -100,12 +100,18 @@ void evaluate(const std::filesystem::path& out, const core::Capture& capture, co
 
 namespace {
 
+core::Json partition_figures(const align::TreePartition& partition) {
+  return {{"trunk_frames", partition.trunk_size}, {"units", partition.units()}, {"unit_bound", partition.bound},
+          {"unit_frames", partition.unit_sizes}};
+}
+
 /// The whole registration's outputs from the registration: database, figures, ground truth, previews.
 void finish_stage(const std::filesystem::path& out, const RegisterInputs& inputs, align::Registration& registration,
                   const RegisterStageOptions& options, core::StageReport& report) {
   write_registration(out, inputs, registration, options, report);
   auto& figures = report.figures();
   figures.update(alignment_figures(registration));
+  figures["partition"] = partition_figures(align::partition_tree(inputs.tree));
   if (options.report.evaluation && ground_truth_file(inputs.capture))
     evaluate(out, inputs.capture, registration, options.report, report);
   if (options.report.preview_frames > 0) {
@@ -119,11 +125,6 @@ void finish_stage(const std::filesystem::path& out, const RegisterInputs& inputs
   report.write(out / "report" / "alignment.json");
   spdlog::info("aligned {} frames (mean residual {:.2f} mm) → {}/database.json", registration.frames.size(),
                1000 * figures["summary"]["mean_residual_m"].get<double>(), out.string());
-}
-
-core::Json partition_figures(const align::TreePartition& partition) {
-  return {{"trunk_frames", partition.trunk_size}, {"units", partition.units()}, {"unit_bound", partition.bound},
-          {"unit_frames", partition.unit_sizes}};
 }
 
 /// A trunk or shard job: aligns its nodes and writes its part and its report.
@@ -205,7 +206,7 @@ void run_merge_job(const std::filesystem::path& out, const RegisterInputs& input
     auto timer = report.time("assemble");
     registration = align::assemble_registration(inputs.capture, inputs.set.frames, inputs.tree, pointers, summary);
   }
-  report.figures()["registration_jobs"] = {{"shards", shards}, {"partition", partition_figures(partition)}};
+  report.figures()["registration_jobs"] = {{"shards", shards}};
   finish_stage(out, inputs, registration, options, report);
 }
 
