@@ -5,7 +5,8 @@
 #
 # Variables (defaults below): CAPTURE, GRAPH (required); OUT, PARTS, DATABASE (aligned: the
 # stages after alignment read OUT/aligned/database.json; truth: the capture's ground-truth
-# database, for synthetic captures), BLOCKS (similarity row blocks), THREADS (per step),
+# database, for synthetic captures), BLOCKS (similarity row blocks), REGISTER_JOBS (registration
+# jobs: 1 = one step; K > 1 = a trunk job, K shard jobs and a merge), THREADS (per step),
 # SUBMIT (command prefix of the heavy steps, e.g. `srun -c 2`), CONTROL (playback script), NAME,
 # BIN (the surfcap executables), TRACK_TOOLS (yes: a rebuilt executable redoes its steps),
 # LOG_LEVEL and <STAGE>_OPTIONS (extra options per tool), THREE (where scripts/vendor_three.sh
@@ -28,6 +29,7 @@ OUT ?= out/character
 PARTS ?= $(SURFCAP)/configs/parts/human6.json
 DATABASE ?= aligned
 BLOCKS ?= 4
+REGISTER_JOBS ?= 1
 THREADS ?= 0
 SUBMIT ?=
 NAME ?= character
@@ -63,6 +65,9 @@ $(error character.mk: $(CAPTURE)/capture.json does not exist)
 endif
 ifeq ($(filter $(DATABASE),aligned truth),)
 $(error character.mk: DATABASE must be aligned or truth, not '$(DATABASE)')
+endif
+ifneq ($(shell echo '$(REGISTER_JOBS)' | grep -xE '[1-9][0-9]{0,4}'),$(REGISTER_JOBS))
+$(error character.mk: REGISTER_JOBS must be a positive integer, not '$(REGISTER_JOBS)')
 endif
 endif
 
@@ -107,6 +112,9 @@ HISTOGRAMS := $(A)/similarity/histograms.npy $(A)/similarity/histograms.json
 BLOCK_FILES := $(patsubst %,$(A)/similarity/rows/rows-%.npy,$(ROW_BLOCKS))
 MATRIX := $(A)/similarity/matrix.npy
 TREE := $(A)/similarity/tree.json
+R := $(A)/register
+SHARDS := $(if $(filter-out 1,$(REGISTER_JOBS)),$(shell seq 1 $(REGISTER_JOBS)))
+SHARD_PARTS := $(foreach k,$(SHARDS),$(R)/shard-$(k)-of-$(REGISTER_JOBS).json)
 ALIGNED := $(A)/database.json $(A)/template.ply $(foreach s,$(SEQUENCES),$(A)/sequences/$(s).npy $(A)/sequences/$(s).root.npy)
 LEARNT := $(P)/parts.json
 SPACE_FILES := $(foreach s,$(SPACES),$(M)/spaces/$(s)/space.json)
@@ -161,10 +169,31 @@ $(TREE) $(A)/similarity/tree.png $(A)/report/similarity.json &: $(MATRIX) $(GROU
 	$(RUN) align.tree $(TREE) $(BIN)/surfcap-align tree --out $(A) \
 	  $(if $(GROUND_TRUTH),--ground-truth $(GROUND_TRUTH)) $(TREE_OPTIONS) $(COMMON)
 
+ifeq ($(REGISTER_JOBS),1)
 $(ALIGNED) $(A)/report/alignment.json &: $(TREE) $(CAPTURE_FILES) $(call tool,align)
-	rm -rf $(A)/sequences $(A)/.database.json.tmp-* $(A)/.template.ply.tmp-*
+	rm -rf $(A)/sequences $(R) $(A)/.database.json.tmp-* $(A)/.template.ply.tmp-*
 	$(RUN) align.register $(A)/database.json $(SUBMIT) $(BIN)/surfcap-align register --out $(A) \
 	  --capture $(CAPTURE) $(REGISTER_OPTIONS) $(COMMON)
+else
+# Registration jobs (docs/pipelines.md "Registration jobs"): the trunk of the tree, then K shards
+# of its units, then the merge into the bytes the single job writes.
+$(R)/trunk.json $(R)/trunk.npy $(A)/report/register-trunk.json &: $(TREE) $(CAPTURE_FILES) $(call tool,align)
+	rm -f $(R)/.trunk.*.tmp-*
+	$(RUN) align.register.trunk $(R)/trunk.json $(SUBMIT) $(BIN)/surfcap-align register --trunk --out $(A) \
+	  --capture $(CAPTURE) $(REGISTER_OPTIONS) $(COMMON)
+
+$(R)/shard-%-of-$(REGISTER_JOBS).json $(R)/shard-%-of-$(REGISTER_JOBS).npy \
+    $(A)/report/register-shard-%-of-$(REGISTER_JOBS).json: $(R)/trunk.json $(CAPTURE_FILES) $(call tool,align)
+	rm -f $(R)/.shard-$*-of-$(REGISTER_JOBS).*.tmp-*
+	$(RUN) align.register.shard $(R)/shard-$*-of-$(REGISTER_JOBS).json $(SUBMIT) $(BIN)/surfcap-align register \
+	  --shard $*/$(REGISTER_JOBS) --out $(A) --capture $(CAPTURE) $(REGISTER_OPTIONS) $(COMMON)
+
+$(ALIGNED) $(A)/report/alignment.json &: $(R)/trunk.json $(SHARD_PARTS) $(call tool,align)
+	rm -rf $(A)/sequences $(A)/.database.json.tmp-* $(A)/.template.ply.tmp-*
+	find $(R) -name 'shard-*' $(foreach k,$(SHARDS),! -name 'shard-$(k)-of-$(REGISTER_JOBS).*') -delete
+	$(RUN) align.register.merge $(A)/database.json $(SUBMIT) $(BIN)/surfcap-align register \
+	  --merge $(REGISTER_JOBS) --out $(A) --capture $(CAPTURE) $(REGISTER_OPTIONS) $(COMMON)
+endif
 
 # ── part models (surfcap-learn, docs/learn.md) ──────────────────────────────────────────────────
 $(LEARNT) $(P)/parts.png $(P)/report/learn.json &: $(DB_FILES) $(PARTS) $(call tool,learn)

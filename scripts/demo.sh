@@ -5,7 +5,7 @@
 # Usage: scripts/demo.sh [OUT_DIR]   (default out/demo)
 # Environment:
 #   DATABASE=aligned|truth  which database the stages after alignment read (default aligned: the
-#                           output of surfcap-align, 0.4905 % RMS / 1.075 % worst frame of the
+#                           output of surfcap-align, 0.496 % RMS / 1.075 % worst frame of the
 #                           height on this capture, docs/align.md; truth: the capture's ground
 #                           truth, to compare the later stages without the alignment's error)
 #   ROOT (default walk:0)   the template frame: a stride of the walk (docs/align.md)

@@ -4,7 +4,7 @@
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # the automatic root, and exit codes. The template is a stride of the walk (--root walk:0, as
 # scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %) leave room
-# above the figures docs/align.md gives for tiny (0.928 % / 1.760 %): single hard edges move them
+# above the figures docs/align.md gives for tiny (0.917 % / 1.525 %): single hard edges move them
 # by tenths of a percent with small changes of the method, and the sanitizer build synthesises
 # another tiny capture.
 set -euo pipefail

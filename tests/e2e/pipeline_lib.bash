@@ -31,9 +31,11 @@ pipeline_make() {
      GRAPH="$source/configs/graphs/tiny.json" OUT=out BIN="$build/tools" LOG_LEVEL=warn "$@")
 }
 
-# Every output file of a run, reports (timings) excluded.
+# Every output file of a run, reports (timings) and the registration jobs' parts (as many as
+# jobs) excluded.
 pipeline_outputs() {
-  (cd "$1/out" && find . -type f -not -path '*/report/*' -not -path './previews/report.json' | sort)
+  (cd "$1/out" && find . -type f -not -path '*/report/*' -not -path './previews/report.json' \
+     -not -path './aligned/register/*' | sort)
 }
 
 # pipeline_same A B: the same output files with the same bytes.

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # pipelines/character.mk through a real scheduler: a single-node SLURM (slurmctld + slurmd +
 # munged, Debian's slurm-wlm and munge) started on localhost in a temporary directory, the tiny
-# pipeline run with SUBMIT="srun ...", its outputs byte-identical to a local run, and every heavy
-# step a SLURM job. Installs slurm-wlm and munge when they are missing and it runs as root with
-# apt; otherwise, or when the daemons cannot start here, it is skipped (exit 77) with the reason
-# (SURFCAP_REQUIRE_SLURM=1 turns a daemon that does not start into a failure).
+# pipeline run with SUBMIT="srun ..." and the alignment as registration jobs (REGISTER_JOBS=2: a
+# trunk job, two shard jobs, the merge), its outputs byte-identical to a local run with one
+# registration job, and every heavy step a SLURM job. Installs slurm-wlm and munge when they are
+# missing and it runs as root with apt; otherwise, or when the daemons cannot start here, it is
+# skipped (exit 77) with the reason (SURFCAP_REQUIRE_SLURM=1 turns a daemon that does not start
+# into a failure).
 # Usage: bash pipeline_slurm.sh <build_dir> <source_dir>
 set -euo pipefail
 build=$1
@@ -119,9 +121,11 @@ common=(DATABASE=aligned BLOCKS=2 THREADS=1 SPACES_OPTIONS="--sweep-mm 5 --valid
         REGISTER_OPTIONS="--levels 1 --rotation-iterations 1 --dense-iterations 1 --surface-model --no-evaluation")
 pipeline_make "$work/local" "${common[@]}" -j2 "${targets[@]}" alignment
 jobs_before=$(scontrol show jobs --oneline 2>/dev/null | grep -c JobId= || true)
-pipeline_make "$work/slurm" "${common[@]}" -j2 SUBMIT="srun --quiet --ntasks=1 --cpus-per-task=1" \
+pipeline_make "$work/slurm" "${common[@]}" -j2 SUBMIT="srun --quiet --ntasks=1 --cpus-per-task=1" REGISTER_JOBS=2 \
   "${targets[@]}" alignment
 pipeline_same "$work/local" "$work/slurm"
+[[ $(grep -c $'^align\.register\.shard\t' "$work/slurm/out/report/steps.tsv") -eq 2 ]] \
+  || { echo "the alignment did not run as two shard jobs"; exit 1; }
 
 # Every heavy step (all but merge, tree and graph) ran as a SLURM job, and they all completed.
 heavy=$(cut -f1 "$work/slurm/out/report/steps.tsv" | grep -cvE '^(align\.merge|align\.tree|precompute\.graph)$')

@@ -1,8 +1,10 @@
 // surfcap-align: capture folder → aligned database (docs/align.md). Each command is one library
 // stage (similarity/similarity_stages.hpp, evaluation/register_stage.hpp); `run` chains them.
+#include <cstdio>
 #include <malloc.h>
 
 #include "surfcap/core/cli.hpp"
+#include "surfcap/core/error.hpp"
 #include "surfcap/core/option_table.hpp"
 #include "surfcap/evaluation/register_stage.hpp"
 #include "surfcap/similarity/similarity_stages.hpp"
@@ -25,6 +27,19 @@ void add_root_options(CLI::App* command, similarity::SimilarityStageOptions& opt
 void add_register_options(CLI::App* command, evaluation::RegisterStageOptions& options) {
   core::add_options(command, options.alignment);
   core::add_options(command, options.report);
+}
+
+/// --trunk, --shard k/K or --merge K as a job; bad_arguments (2) for a malformed k/K.
+evaluation::RegisterJob register_job(bool trunk, const std::string& shard, int merge) {
+  using Kind = evaluation::RegisterJob::Kind;
+  if (trunk) return {Kind::trunk, 0, 0};
+  if (merge > 0) return {Kind::merge, 0, merge};
+  if (shard.empty()) return {};
+  int k = 0, count = 0;
+  char tail = 0;
+  if (std::sscanf(shard.c_str(), "%d/%d%c", &k, &count, &tail) != 2 || count < 1 || k < 1 || k > count)
+    throw core::bad_arguments("--shard " + shard + ": expected k/K with 1 <= k <= K, e.g. 2/4");
+  return {Kind::shard, k, count};
 }
 
 }  // namespace
@@ -73,6 +88,20 @@ int main(int argc, char** argv) {
   register_cmd->add_option("--out", out, "Database folder holding similarity/ (written into)")->required();
   register_cmd->add_option("--capture", registration.capture, "Capture folder (default: the one histograms.json names)");
   add_register_options(register_cmd, registration);
+  // Registration jobs (docs/pipelines.md "Registration jobs"): none of them changes an output.
+  bool trunk_job = false;
+  std::string shard_job;
+  int merge_shards = 0;
+  auto* trunk_option = register_cmd->add_flag(
+      "--trunk", trunk_job, "Registration job: align the tree's trunk only, into DB/register/trunk.{json,npy}");
+  auto* shard_option = register_cmd->add_option(
+      "--shard", shard_job, "Registration job k/K (after --trunk): align the units of shard k of K into "
+                            "DB/register/shard-k-of-K.{json,npy}");
+  auto* merge_option = register_cmd->add_option(
+      "--merge", merge_shards, "Join DB/register/trunk and shards 1..K into what the single job writes")
+      ->check(CLI::Range(1, 100000));
+  trunk_option->excludes(shard_option)->excludes(merge_option);
+  shard_option->excludes(merge_option);
 
   auto* run = cli.add_subcommand("run", "histograms → similarity → tree → register in one go");
   run->add_option("--capture", capture, "Capture folder (or its capture.json)")->required();
@@ -89,6 +118,9 @@ int main(int argc, char** argv) {
     similarity.threads = registration.alignment.threads = app.common().threads;
     similarity.options_json = registration.options_json = app.options_json();
     registration.provenance_json = app.provenance_json();
+    if (registration.provenance_json.contains("register"))
+      for (const char* job_option : {"trunk", "shard", "merge"}) registration.provenance_json["register"].erase(job_option);
+    registration.job = register_job(trunk_job, shard_job, merge_shards);
     if (*histograms) similarity::run_histograms_stage(capture, out, similarity);
     if (*similarity_cmd) similarity::run_similarity_stage(out, similarity);
     if (*merge) similarity::run_merge_stage(out);

@@ -2,11 +2,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <optional>
 
 #include "surfcap/core/error.hpp"
@@ -40,11 +42,13 @@ std::vector<NodeFrame> node_frames(const core::Capture& capture, const similarit
 }
 
 /// What the edges of the tree share: the set-up (read only) and per node the slots its own edge
-/// writes (aligned positions, image features, record); an edge reads only nodes of lower depth.
+/// writes (aligned positions, image features, record); an edge reads only aligned nodes (of its
+/// unit at a lower depth, or of the trunk).
 struct TreeState {
   const core::Capture& capture;
   const std::vector<NodeFrame>& nodes;
   const AlignmentTree& tree;
+  const TreePartition& partition;
   const RegisterOptions& options;
   const AlignmentTemplate& model;
   const MotionPredictor& predictor;
@@ -53,9 +57,19 @@ struct TreeState {
   bool use_features = false;
   std::vector<int> node_depth;
   std::vector<Eigen::MatrixXd> positions;
+  std::vector<char> aligned;         ///< per node: positions and record are final
   std::vector<FrameFeatures> features;
-  std::atomic<std::size_t> done{1};
+  std::vector<char> features_ready;  ///< per node: features holds its detection
+  std::atomic<std::size_t> done{0};
   const core::ProgressCallback* progress = nullptr;
+
+  TreeState(const core::Capture& c, const std::vector<NodeFrame>& n, const AlignmentTree& t, const TreePartition& p,
+            const RegisterOptions& o, const AlignmentTemplate& m, const MotionPredictor& predict, Registration& r)
+      : capture(c), nodes(n), tree(t), partition(p), options(o), model(m), predictor(predict), registration(r),
+        node_depth(n.size(), 0), positions(n.size()), aligned(n.size(), 0), features(n.size()),
+        features_ready(n.size(), 0) {
+    for (const auto& edge : t.edges) node_depth[static_cast<std::size_t>(edge.child)] = edge.depth;
+  }
 
   FrameFeatures detect_features(const NodeFrame& node, const geometry::SurfaceQuery& reconstruction) const {
     return detect_frame_features(capture, node.sequence, node.frame, reconstruction, options.pairwise.feature);
@@ -94,7 +108,10 @@ class EdgeAlignment {
         target_(read_reconstruction(state.capture, child_)),
         query_(target_.V, target_.F),
         record_(state.registration.frames[static_cast<std::size_t>(edge.child)]) {
-    if (state.use_features) state.features[static_cast<std::size_t>(edge.child)] = state.detect_features(child_, query_);
+    if (state.use_features) {
+      state.features[static_cast<std::size_t>(edge.child)] = state.detect_features(child_, query_);
+      state.features_ready[static_cast<std::size_t>(edge.child)] = 1;
+    }
     if (state.appearance) child_images_ = read_grey_images(state.capture, child_.sequence, child_.frame);
   }
 
@@ -134,10 +151,15 @@ class EdgeAlignment {
     return align::verdict(result, parent_residual(from), state_.options.failure);
   }
 
-  /// A frame another parent can be: aligned already (a lower depth) and not failed itself.
+  /// A frame another parent can be: a trunk frame (for a trunk child, of a lower depth) or a frame
+  /// of the child's unit of a lower depth — aligned before the child whatever the jobs — and not
+  /// failed itself. Membership is tested first: other records may still be being written.
   bool usable_parent(long other) const {
-    return other != edge_.child && state_.node_depth[static_cast<std::size_t>(other)] < edge_.depth &&
-           !state_.registration.frames[static_cast<std::size_t>(other)].unrecovered;
+    const long unit = state_.partition.unit_of[static_cast<std::size_t>(edge_.child)];
+    const long other_unit = state_.partition.unit_of[static_cast<std::size_t>(other)];
+    const bool lower = state_.node_depth[static_cast<std::size_t>(other)] < edge_.depth;
+    const bool member = other_unit < 0 ? unit >= 0 || lower : other_unit == unit && lower;
+    return member && other != edge_.child && !state_.registration.frames[static_cast<std::size_t>(other)].unrecovered;
   }
 
   /// The image features of parent and child; an alternative parent's were released with its depth
@@ -199,6 +221,7 @@ class EdgeAlignment {
     record_.alignment = std::move(result);
     record_.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
     record_.features = state_.features[static_cast<std::size_t>(edge_.child)].size();
+    state_.aligned[static_cast<std::size_t>(edge_.child)] = 1;
     const std::size_t finished = ++state_.done;
     if (*state_.progress) (*state_.progress)(finished, state_.nodes.size());
   }
@@ -247,20 +270,41 @@ void start_records(Registration& registration, const core::Capture& capture, con
   record.alignment.max_residual = distances.maxCoeff();
 }
 
-/// Depth by depth: the edges of one depth only read positions of the previous depths. Image
-/// features of a node are released once the next depth (its children) is done.
-void align_depths(TreeState& state, int threads) {
+/// The image features of the parents of `edges` that are not at hand (released, or aligned by
+/// another job), detected again: the detection depends on the frame alone.
+void detect_parent_features(TreeState& state, const std::vector<AlignmentTree::Edge>& edges, int threads) {
+  if (!state.use_features) return;
+  std::vector<long> missing;
+  for (const auto& edge : edges)
+    if (!state.features_ready[static_cast<std::size_t>(edge.parent)]) missing.push_back(edge.parent);
+  std::sort(missing.begin(), missing.end());
+  missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+  core::parallel_for(static_cast<long>(missing.size()), threads, [&](long i) {
+    const auto node = static_cast<std::size_t>(missing[static_cast<std::size_t>(i)]);
+    const core::Mesh mesh = read_reconstruction(state.capture, state.nodes[node]);
+    state.features[node] = state.detect_features(state.nodes[node], geometry::SurfaceQuery(mesh.V, mesh.F));
+    state.features_ready[node] = 1;
+  });
+}
+
+/// Depth by depth: the edges of one depth only read positions of aligned nodes (the trunk, lower
+/// depths). Image features of a node are released once the next depth (its children) is done.
+void align_depths(TreeState& state, const std::vector<AlignmentTree::Edge>& edges_to_align, int threads) {
   std::map<int, std::vector<AlignmentTree::Edge>> by_depth;
-  for (const auto& edge : state.tree.edges) {
-    by_depth[edge.depth].push_back(edge);
-    state.node_depth[static_cast<std::size_t>(edge.child)] = edge.depth;
-  }
+  for (const auto& edge : edges_to_align) by_depth[edge.depth].push_back(edge);
   for (const auto& level : by_depth) {
     const auto& edges = level.second;  // not a structured binding: clang 14 cannot capture those
+    for (const auto& edge : edges)
+      if (!state.aligned[static_cast<std::size_t>(edge.parent)])
+        throw core::internal_error("tree registration: edge from a node not aligned");
+    detect_parent_features(state, edges, threads);
     core::parallel_for(static_cast<long>(edges.size()), threads, [&](long i) {
       EdgeAlignment(state, edges[static_cast<std::size_t>(i)]).run();
     });
-    for (const auto& edge : edges) state.features[static_cast<std::size_t>(edge.parent)] = FrameFeatures{};
+    for (const auto& edge : edges) {
+      state.features[static_cast<std::size_t>(edge.parent)] = FrameFeatures{};
+      state.features_ready[static_cast<std::size_t>(edge.parent)] = 0;
+    }
   }
 }
 
@@ -316,52 +360,175 @@ Eigen::MatrixXd pose_volume(const AlignmentTemplate& model, const Eigen::MatrixX
   return positions;
 }
 
-Registration register_capture(const core::Capture& capture, const similarity::FrameList& frames,
-                              const AlignmentTree& tree, const RegisterOptions& options,
-                              const core::ProgressCallback& progress) {
-  options.validate();
-  const std::vector<NodeFrame> nodes = node_frames(capture, frames);
-  const std::size_t node_count = nodes.size();
-  Registration registration;
-  const NodeFrame root = nodes[static_cast<std::size_t>(tree.root)];
-  const auto template_start = Clock::now();
-  const core::Mesh template_mesh = read_reconstruction(capture, root);
-  const AlignmentTemplate model(template_mesh, options.pairwise, options.deformer);
-  registration.seconds_template = std::chrono::duration<double>(Clock::now() - template_start).count();
-  registration.deformer_model = model.deformer().model();
-  registration.volume_vertices = model.deformer().vertex_count();
-  registration.elements = model.deformer().element_count();
-  spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
-               capture.sequences[static_cast<std::size_t>(root.sequence)].name, root.frame,
-               template_mesh.vertex_count(), registration.deformer_model, registration.volume_vertices,
-               registration.elements);
-  start_records(registration, capture, nodes, tree.root, template_mesh);
+struct TreeRegistration::Impl {
+  const core::Capture& capture;
+  const similarity::FrameList& frames;
+  const AlignmentTree& tree;
+  const RegisterOptions& options;
+  const core::ProgressCallback progress;
+  const std::vector<NodeFrame> nodes;
+  const TreePartition partition;
+  const NodeFrame root;
+  Registration registration;  ///< the template's figures and the records
+  core::Mesh template_mesh;
+  std::unique_ptr<AlignmentTemplate> model;
+  std::unique_ptr<MotionPredictor> predictor;
+  std::unique_ptr<TemplateAppearance> appearance;
+  std::unique_ptr<TreeState> state;
 
-  const MotionPredictor predictor(nodes, options.costs, options.motion);
-  TreeState state{capture, nodes, tree, options, model, predictor, registration};
-  state.node_depth.assign(node_count, 0);
-  state.positions.resize(node_count);
-  state.positions[static_cast<std::size_t>(tree.root)] = model.deformer().rest();
-  state.features.resize(node_count);
-  state.use_features = options.images && options.pairwise.feature.weight.has_value();
-  if (state.use_features) {
-    auto& features = state.features[static_cast<std::size_t>(tree.root)];
-    features = state.detect_features(root, geometry::SurfaceQuery(template_mesh.V, template_mesh.F));
-    registration.frames[static_cast<std::size_t>(tree.root)].features = features.size();
+  Impl(const core::Capture& c, const similarity::FrameList& f, const AlignmentTree& t, const RegisterOptions& o,
+       core::ProgressCallback p)
+      : capture(c), frames(f), tree(t), options(o), progress(std::move(p)), nodes(node_frames(c, f)),
+        partition(partition_tree(t)), root(nodes.at(static_cast<std::size_t>(t.root))) {}
+
+  /// The edges into the given nodes, in tree order.
+  std::vector<AlignmentTree::Edge> edges_into(const std::vector<long>& children) const {
+    std::vector<char> wanted(nodes.size(), 0);
+    for (const long node : children) wanted[static_cast<std::size_t>(node)] = 1;
+    std::vector<AlignmentTree::Edge> edges;
+    for (const auto& edge : tree.edges)
+      if (wanted[static_cast<std::size_t>(edge.child)]) edges.push_back(edge);
+    return edges;
   }
-  const std::unique_ptr<TemplateAppearance> appearance = root_appearance(capture, root, model, options);
-  if (appearance) registration.appearance_coverage = appearance->coverage();
-  state.appearance = appearance.get();
-  state.progress = &progress;
-  if (progress) progress(state.done, node_count);
-  align_depths(state, options.threads);
+};
 
-  registration.world_positions.resize(node_count);
-  for (std::size_t node = 0; node < node_count; ++node)
-    registration.world_positions[node] = state.positions[node].topRows(template_mesh.vertex_count());
+TreeRegistration::TreeRegistration(const core::Capture& capture, const similarity::FrameList& frames,
+                                   const AlignmentTree& tree, const RegisterOptions& options,
+                                   const core::ProgressCallback& progress)
+    : impl_(std::make_unique<Impl>(capture, frames, tree, options, progress)) {
+  options.validate();
+  Impl& m = *impl_;
+  const auto template_start = Clock::now();
+  m.template_mesh = read_reconstruction(capture, m.root);
+  m.model = std::make_unique<AlignmentTemplate>(m.template_mesh, options.pairwise, options.deformer);
+  Registration& registration = m.registration;
+  registration.seconds_template = std::chrono::duration<double>(Clock::now() - template_start).count();
+  registration.deformer_model = m.model->deformer().model();
+  registration.volume_vertices = m.model->deformer().vertex_count();
+  registration.elements = m.model->deformer().element_count();
+  spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
+               capture.sequences[static_cast<std::size_t>(m.root.sequence)].name, m.root.frame,
+               m.template_mesh.vertex_count(), registration.deformer_model, registration.volume_vertices,
+               registration.elements);
+  spdlog::info("tree partition: a trunk of {} frames and {} units of at most {} frames", m.partition.trunk_size,
+               m.partition.units(), m.partition.bound);
+  start_records(registration, capture, m.nodes, tree.root, m.template_mesh);
+
+  m.predictor = std::make_unique<MotionPredictor>(m.nodes, options.costs, options.motion);
+  m.state = std::make_unique<TreeState>(capture, m.nodes, tree, m.partition, options, *m.model, *m.predictor,
+                                        registration);
+  TreeState& state = *m.state;
+  state.use_features = options.images && options.pairwise.feature.weight.has_value();
+  m.appearance = root_appearance(capture, m.root, *m.model, options);
+  if (m.appearance) registration.appearance_coverage = m.appearance->coverage();
+  state.appearance = m.appearance.get();
+  state.progress = &m.progress;
+}
+
+TreeRegistration::~TreeRegistration() = default;
+
+const TreePartition& TreeRegistration::partition() const { return impl_->partition; }
+
+const Registration& TreeRegistration::summary() const { return impl_->registration; }
+
+void TreeRegistration::align_trunk() {
+  Impl& m = *impl_;
+  TreeState& state = *m.state;
+  const auto root = static_cast<std::size_t>(m.tree.root);
+  state.positions[root] = m.model->deformer().rest();
+  state.aligned[root] = 1;
+  if (state.use_features) {
+    state.features[root] = state.detect_features(m.root, geometry::SurfaceQuery(m.template_mesh.V, m.template_mesh.F));
+    state.features_ready[root] = 1;
+    m.registration.frames[root].features = state.features[root].size();
+  }
+  if (m.progress) m.progress(++state.done, m.nodes.size());
+  align_depths(state, m.edges_into(partition_nodes(m.partition, {}, true)), m.options.threads);
+}
+
+void TreeRegistration::load(const RegistrationPart& part) {
+  TreeState& state = *impl_->state;
+  for (std::size_t k = 0; k < part.nodes.size(); ++k) {
+    const auto node = static_cast<std::size_t>(part.nodes[k]);
+    state.positions[node] = part.positions[k];
+    impl_->registration.frames[node] = part.records[k];
+    state.aligned[node] = 1;
+  }
+}
+
+void TreeRegistration::align_units(const std::vector<long>& units) {
+  Impl& m = *impl_;
+  for (const long node : partition_nodes(m.partition, {}, true))
+    if (!m.state->aligned[static_cast<std::size_t>(node)])
+      throw core::internal_error("tree registration: units aligned before the trunk");
+  align_depths(*m.state, m.edges_into(partition_nodes(m.partition, units, false)), m.options.threads);
+}
+
+RegistrationPart TreeRegistration::part(const std::vector<long>& nodes) const {
+  RegistrationPart part;
+  part.nodes = nodes;
+  for (const long node : nodes) {
+    if (!impl_->state->aligned[static_cast<std::size_t>(node)])
+      throw core::internal_error("tree registration: part with a node not aligned");
+    part.records.push_back(impl_->registration.frames[static_cast<std::size_t>(node)]);
+    part.positions.push_back(impl_->state->positions[static_cast<std::size_t>(node)]);
+  }
+  return part;
+}
+
+Registration TreeRegistration::finish() const {
+  std::vector<long> all(impl_->nodes.size());
+  std::iota(all.begin(), all.end(), 0L);
+  const RegistrationPart whole = part(all);
+  return assemble_registration(impl_->capture, impl_->frames, impl_->tree, {&whole}, impl_->registration);
+}
+
+std::vector<long> partition_nodes(const TreePartition& partition, const std::vector<long>& units, bool trunk) {
+  std::vector<char> chosen(static_cast<std::size_t>(partition.units()), 0);
+  for (const long unit : units) chosen.at(static_cast<std::size_t>(unit)) = 1;
+  std::vector<long> nodes;
+  for (std::size_t node = 0; node < partition.unit_of.size(); ++node) {
+    const long unit = partition.unit_of[node];
+    if (unit < 0 ? trunk : chosen[static_cast<std::size_t>(unit)] != 0) nodes.push_back(static_cast<long>(node));
+  }
+  return nodes;
+}
+
+Registration assemble_registration(const core::Capture& capture, const similarity::FrameList& frames,
+                                   const AlignmentTree& tree, const std::vector<const RegistrationPart*>& parts,
+                                   const Registration& summary) {
+  const std::vector<NodeFrame> nodes = node_frames(capture, frames);
+  const NodeFrame root = nodes.at(static_cast<std::size_t>(tree.root));
+  const core::Mesh template_mesh = read_reconstruction(capture, root);
+  Registration registration = summary;  // the template's figures; frames and positions from the parts
+  registration.frames.assign(nodes.size(), FrameRecord{});
+  registration.world_positions.assign(nodes.size(), Eigen::MatrixXd{});
+  std::vector<char> seen(nodes.size(), 0);
+  for (const RegistrationPart* part : parts)
+    for (std::size_t k = 0; k < part->nodes.size(); ++k) {
+      const auto node = static_cast<std::size_t>(part->nodes[k]);
+      if (node >= nodes.size() || seen[node] || part->positions[k].rows() < template_mesh.vertex_count())
+        throw core::internal_error("assemble_registration: parts do not hold every node once");
+      seen[node] = 1;
+      registration.frames[node] = part->records[k];
+      registration.world_positions[node] = part->positions[k].topRows(template_mesh.vertex_count());
+    }
+  if (std::find(seen.begin(), seen.end(), 0) != seen.end())
+    throw core::internal_error("assemble_registration: a node is in no part");
   registration.database =
       aligned_database(capture, frames, template_mesh, root.sequence, root.frame, registration.world_positions);
   return registration;
+}
+
+Registration register_capture(const core::Capture& capture, const similarity::FrameList& frames,
+                              const AlignmentTree& tree, const RegisterOptions& options,
+                              const core::ProgressCallback& progress) {
+  TreeRegistration registration(capture, frames, tree, options, progress);
+  registration.align_trunk();
+  std::vector<long> units(static_cast<std::size_t>(registration.partition().units()));
+  std::iota(units.begin(), units.end(), 0L);
+  registration.align_units(units);
+  return registration.finish();
 }
 
 }  // namespace surfcap::align

@@ -1,13 +1,16 @@
 #pragma once
 // Alignment of every captured frame along the shape similarity tree (casas2011 §3.2): the
-// template (the root frame's reconstruction) is deformed parent → child from the root outwards;
-// the edges of one depth run in parallel, each reading only its parent, so results do not depend
-// on the thread count. Around each edge: motion prediction (motion_prediction.hpp) and parent
-// recovery (parent_recovery.hpp). The result is the aligned database (aligned_database.hpp) plus
-// per-frame records for the report.
+// template (the root frame's reconstruction) is deformed parent → child from the root outwards,
+// the trunk of the tree first, then its units (tree_partition.hpp); within each, the edges of one
+// depth run in parallel, each reading only aligned frames, so results depend neither on the thread
+// count nor on how the units are spread over jobs. Around each edge: motion prediction
+// (motion_prediction.hpp) and parent recovery (parent_recovery.hpp), whose candidate parents are
+// the frames of the child's own unit and the trunk. The result is the aligned database
+// (aligned_database.hpp) plus per-frame records for the report.
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +18,7 @@
 #include "surfcap/align/motion_prediction.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/align/parent_recovery.hpp"
+#include "surfcap/align/tree_partition.hpp"
 #include "surfcap/core/capture.hpp"
 #include "surfcap/core/database.hpp"
 #include "surfcap/core/progress.hpp"
@@ -86,7 +90,7 @@ struct FrameRecord {
 };
 
 struct Registration {
-  core::AlignedDatabase database;
+  core::AlignedDatabase database;  ///< empty in a job that aligns part of the tree
   std::vector<FrameRecord> frames;                 ///< per node
   std::vector<Eigen::MatrixXd> world_positions;    ///< per node: template surface vertices (world, metres)
   std::string deformer_model;
@@ -99,8 +103,56 @@ struct Registration {
 /// rigidly fitted to it, then deformed onto it (rotation updates), surface rows set exactly.
 Eigen::MatrixXd pose_volume(const AlignmentTemplate& model, const Eigen::MatrixXd& surface);
 
-/// Aligns all frames of `capture` listed in `frames` along `tree`. Reconstructions are read (and
-/// checked) as needed; errors name the file and frame.
+/// What a registration job hands on (registration_parts.hpp writes it): the nodes it aligned
+/// (ascending), their records (positions cleared) and their deformer vertices (all, surface first).
+struct RegistrationPart {
+  std::vector<long> nodes;
+  std::vector<FrameRecord> records;
+  std::vector<Eigen::MatrixXd> positions;
+};
+
+/// The alignment of one capture along its tree, in the jobs' steps: the trunk, then units (all, or
+/// a job's share once the trunk's part is loaded). The template, the root's appearance and the
+/// image features are computed by each instance from the capture; they depend on nothing else.
+class TreeRegistration {
+ public:
+  /// `options` (and its costs), `capture`, `frames` and `tree` must outlive this object.
+  TreeRegistration(const core::Capture& capture, const similarity::FrameList& frames, const AlignmentTree& tree,
+                   const RegisterOptions& options, const core::ProgressCallback& progress = {});
+  ~TreeRegistration();
+  TreeRegistration(const TreeRegistration&) = delete;
+  TreeRegistration& operator=(const TreeRegistration&) = delete;
+
+  const TreePartition& partition() const;
+  /// The template's figures (deformer, volume size, set-up time, appearance coverage); no frames.
+  const Registration& summary() const;
+
+  void align_trunk();
+  /// Takes another job's aligned nodes (the trunk's part before align_units in a shard job).
+  void load(const RegistrationPart& part);
+  /// Aligns the given units (indices into partition()); the trunk must be aligned or loaded.
+  void align_units(const std::vector<long>& units);
+  /// The records and positions of `nodes` (all aligned).
+  RegistrationPart part(const std::vector<long>& nodes) const;
+  /// Every node aligned: the registration with its database.
+  Registration finish() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The nodes of the trunk, or of the given units, ascending.
+std::vector<long> partition_nodes(const TreePartition& partition, const std::vector<long>& units, bool trunk);
+
+/// The registration of the whole tree from parts that hold every node once; `summary` gives the
+/// template's figures. Reads the root's reconstruction (the template mesh).
+Registration assemble_registration(const core::Capture& capture, const similarity::FrameList& frames,
+                                   const AlignmentTree& tree, const std::vector<const RegistrationPart*>& parts,
+                                   const Registration& summary);
+
+/// Aligns all frames of `capture` listed in `frames` along `tree` (trunk, then every unit).
+/// Reconstructions are read (and checked) as needed; errors name the file and frame.
 Registration register_capture(const core::Capture& capture, const similarity::FrameList& frames,
                               const AlignmentTree& tree, const RegisterOptions& options,
                               const core::ProgressCallback& progress = {});

@@ -30,8 +30,18 @@ struct ReportOptions {
   }
 };
 
+/// Which registration job (docs/pipelines.md "Registration jobs"): the whole registration, the
+/// trunk, shard `shard` of `shards` (after the trunk), or the merge of the trunk and `shards`
+/// shards into what the whole registration writes.
+struct RegisterJob {
+  enum class Kind { whole, trunk, shard, merge } kind = Kind::whole;
+  int shard = 0;  ///< from 1
+  int shards = 0;
+};
+
 struct RegisterStageOptions {
   align::RegisterOptions alignment;
+  RegisterJob job;
   ReportOptions report;
   std::string capture;            ///< capture folder (empty: the one similarity/histograms.json names)
   std::string stage = "align.register";  ///< the report's stage name
@@ -40,7 +50,9 @@ struct RegisterStageOptions {
 };
 
 /// <out>/similarity/ → <out>/database.json, template.ply, sequences/, report/alignment.{json,png}
-/// (and truth_error.png, truth arrays with ground truth).
+/// (and truth_error.png, truth arrays with ground truth); the trunk and shard jobs write their
+/// parts (register/, registration_parts.hpp) and report/register-trunk.json or
+/// register-shard-<k>-of-<K>.json instead, and the merge what the whole registration writes.
 void run_register_stage(const std::filesystem::path& out, const RegisterStageOptions& options);
 
 }  // namespace surfcap::evaluation
