@@ -59,7 +59,7 @@ for report in register-trunk register-shard-1-of-4 register-shard-4-of-4 alignme
   python3 - "$work/k4/out/aligned/report/$report.json" <<'PY'
 import json, sys
 report = json.load(open(sys.argv[1]))
-assert report["peak_rss_bytes"] > 0 and report["total_s"] > 0, sys.argv[1]
+assert report["peak_rss_mb"] > 0 and report["total_s"] > 0, sys.argv[1]
 PY
 done
 

@@ -77,7 +77,8 @@ struct TreeState {
 
   /// The image features of `node` as an alternative parent (its own were released with its
   /// depth): detected once and shared by the edges that try it. A frame's features are the same
-  /// whenever they are detected, so which ones are kept (the last 16) does not change the result.
+  /// whenever they are detected, so which ones are kept (at most 16; the lowest node leaves
+  /// first) does not change the result.
   std::shared_ptr<const FrameFeatures> alternative_features(long node) {
     {
       const std::lock_guard<std::mutex> lock(alternatives_mutex);

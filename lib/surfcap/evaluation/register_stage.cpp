@@ -1,7 +1,6 @@
 #include "surfcap/evaluation/register_stage.hpp"
 
 #include <spdlog/spdlog.h>
-#include <sys/resource.h>
 
 #include <optional>
 
@@ -61,13 +60,6 @@ void write_registration(const std::filesystem::path& out, const RegisterInputs& 
   core::write_database(out, registration.database);
 }
 
-/// Peak resident memory of this process so far (bytes).
-long peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss * 1024L;
-}
-
 /// The error against the ground truth: figures, arrays and the preview of the worst frames.
 void evaluate(const std::filesystem::path& out, const core::Capture& capture, const align::Registration& registration,
               const ReportOptions& options, core::StageReport& report) {
@@ -121,7 +113,6 @@ void finish_stage(const std::filesystem::path& out, const RegisterInputs& inputs
                            options.report.preview_scale_mm / 1000);
   }
   figures["options"] = options.options_json;
-  figures["peak_rss_bytes"] = peak_rss_bytes();
   report.write(out / "report" / "alignment.json");
   spdlog::info("aligned {} frames (mean residual {:.2f} mm) → {}/database.json", registration.frames.size(),
                1000 * figures["summary"]["mean_residual_m"].get<double>(), out.string());
@@ -174,7 +165,6 @@ void run_part_job(const std::filesystem::path& out, const RegisterInputs& inputs
   for (const auto& record : part.records) residual += record.alignment.mean_residual;
   figures["job"]["mean_residual_m"] = nodes.empty() ? 0.0 : residual / static_cast<double>(nodes.size());
   figures["options"] = options.options_json;
-  figures["peak_rss_bytes"] = peak_rss_bytes();
   report.write(out / "report" / ("register-" + name + ".json"));
   spdlog::info("aligned {} frames ({}) → {}", nodes.size(), name, path.string());
 }
