@@ -31,6 +31,9 @@ perl -MJSON::PP -e '
   printf "  depth %d: %.3f%%\n", $_->{depth}, $_->{rms_percent_height} for @{$g->{by_depth}};
   die "RMS error above 1.8% of the height\n" if $g->{rms_percent_height} > 1.8;
   die "worst frame above 3.6% of the height\n" if $g->{worst_frame_rms_percent_height} > 3.6;
+  printf "p99 vertex error %.3f%%\n", $g->{p99_vertex_error_percent_height};
+  die "p99 vertex error above 4% of the height or below the RMS\n"
+    if $g->{p99_vertex_error_percent_height} > 4 || $g->{p99_vertex_error_percent_height} < $g->{rms_percent_height};
   die "root appearance covers too little\n" unless $r->{summary}{appearance_coverage} > 0.5;
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};
   die "root frame error above 0.2% (it is the template itself)\n" if $root->{rms_percent_height} > 0.2;

@@ -1,6 +1,7 @@
 #include "surfcap/evaluation/ground_truth_error.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "surfcap/core/error.hpp"
@@ -139,6 +140,7 @@ struct ErrorSums {
   double total = 0, total_normal = 0, observed = 0, unobserved = 0;
   long count = 0, observed_count = 0;
   std::map<int, std::pair<double, long>> by_depth, by_region, by_region_down;
+  std::vector<float> distances;  ///< every vertex-frame's error (m), for the percentiles
 };
 
 /// One frame's error against the truth (positions `world`), added to `sums`.
@@ -167,6 +169,7 @@ FrameTruthError frame_error(const TruthReference& truth, const align::FrameRecor
   }
   sums.observed_count += seen;
   frame.observed_fraction = static_cast<double>(seen) / static_cast<double>(std::max<long>(1, n));
+  for (long v = 0; v < n; ++v) sums.distances.push_back(static_cast<float>(std::sqrt(squared(v))));
   sums.total += squared.sum();
   sums.total_normal += along.squaredNorm();
   sums.count += n;
@@ -187,8 +190,13 @@ FrameTruthError frame_error(const TruthReference& truth, const align::FrameRecor
 }
 
 /// The overall figures from the sums.
-void summarise(const TruthReference& truth, const ErrorSums& sums, TruthEvaluation& evaluation) {
+void summarise(const TruthReference& truth, ErrorSums& sums, TruthEvaluation& evaluation) {
   const double count = static_cast<double>(std::max<long>(1, sums.count));
+  if (!sums.distances.empty()) {  // the 99th percentile, nearest rank
+    const auto rank = static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(sums.distances.size()))) - 1;
+    std::nth_element(sums.distances.begin(), sums.distances.begin() + static_cast<long>(rank), sums.distances.end());
+    evaluation.p99_vertex_error = sums.distances[rank];
+  }
   evaluation.rms = std::sqrt(sums.total / count);
   evaluation.normal_rms = std::sqrt(sums.total_normal / count);
   evaluation.tangential_rms =
@@ -260,6 +268,8 @@ core::Json TruthEvaluation::to_json(const align::Registration& registration) con
           {"rms_percent_height", rms * percent},
           {"normal_rms_m", normal_rms},
           {"tangential_rms_m", tangential_rms},
+          {"p99_vertex_error_m", p99_vertex_error},
+          {"p99_vertex_error_percent_height", p99_vertex_error * percent},
           {"worst_frame", worst.sequence + ":" + std::to_string(worst.frame)},
           {"worst_frame_rms_m", worst_frame_rms},
           {"worst_frame_rms_percent_height", worst_frame_rms * percent},

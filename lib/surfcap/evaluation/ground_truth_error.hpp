@@ -70,6 +70,7 @@ struct TruthEvaluation {
   double normal_rms = 0, tangential_rms = 0;
   double worst_frame_rms = 0;
   long worst_node = 0;
+  double p99_vertex_error = 0;          ///< 99th percentile of the vertex-frame errors (m)
   /// Split by whether a camera of the frame sees the vertex's true location (TruthReference::
   /// observed): the unobserved part (under the skirt, between the legs, in armpits) has no image
   /// evidence (SIFT, flow), only the reconstruction's geometry and the deformation prior. Zero
