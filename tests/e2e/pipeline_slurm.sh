@@ -3,7 +3,8 @@
 # munged, Debian's slurm-wlm and munge) started on localhost in a temporary directory, the tiny
 # pipeline run with SUBMIT="srun ..." and the alignment as registration jobs (REGISTER_JOBS=2: a
 # trunk job, two shard jobs, the merge), its outputs byte-identical to a local run with one
-# registration job, and every heavy step a SLURM job. Installs slurm-wlm and munge when they are
+# registration job, and every heavy step a SLURM job; then a cut of the long capture through
+# histograms, similarity, tree and three registration shards on SLURM against one local job. Installs slurm-wlm and munge when they are
 # missing and it runs as root with apt; otherwise, or when the daemons cannot start here, it is
 # skipped (exit 77) with the reason (SURFCAP_REQUIRE_SLURM=1 turns a daemon that does not start
 # into a failure).
@@ -133,4 +134,25 @@ jobs=$(scontrol show jobs --oneline | grep -c JobId=)
 completed=$(scontrol show jobs --oneline | grep -c 'JobState=COMPLETED')
 echo "$heavy heavy steps, $((jobs - jobs_before)) SLURM jobs ($completed completed)"
 [[ $((jobs - jobs_before)) -eq $heavy && $completed -eq $jobs ]] || { scontrol show jobs --oneline; exit 1; }
+
+# A cut of the long capture (the first 2 frames of each of its 28 takes, ~10,000-vertex
+# reconstructions): histograms → similarity → tree → registration as a trunk job and three shard
+# jobs on SLURM, byte-identical to one local registration job.
+"$build/tools/surfcap-synth" --preset long --frames-per-sequence 2 --out "$work/long/capture" --log-level warn
+long=(DATABASE=aligned BLOCKS=2 THREADS=1
+      REGISTER_OPTIONS="--levels 1 --rotation-iterations 1 --dense-iterations 1 --no-evaluation")
+pipeline_make "$work/long/local" "${long[@]}" -j2 alignment
+pipeline_make "$work/long/slurm" "${long[@]}" -j2 SUBMIT="srun --quiet --ntasks=1 --cpus-per-task=1" REGISTER_JOBS=3 \
+  alignment
+pipeline_same "$work/long/local" "$work/long/slurm"
+python3 - "$work/long/slurm/out/aligned/report" <<'PY'
+import json, sys
+report = json.load(open(sys.argv[1] + "/alignment.json"))
+assert report["summary"]["frames"] == 56, report["summary"]["frames"]
+for k in (1, 2, 3):
+    shard = json.load(open(f"{sys.argv[1]}/register-shard-{k}-of-3.json"))
+    assert shard["job"]["frames"] > 0, f"shard {k} of 3 has no frames"
+PY
+[[ $(grep -c $'^align\.register\.shard\t' "$work/long/slurm/out/report/steps.tsv") -eq 3 ]] \
+  || { echo "the long cut did not register as three shard jobs"; exit 1; }
 echo "pipeline_slurm: ok"
