@@ -2,7 +2,6 @@
 
 #include <cstdlib>
 
-#include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 
 namespace surfcap::align {
@@ -34,9 +33,8 @@ Eigen::MatrixXd MotionPredictor::predict(long child, long from, long grand, cons
   Eigen::MatrixXd predicted =
       from_positions.topRows(n) + *options_.motion_prediction * (from_positions.topRows(n) - grand_positions.topRows(n));
   if (!next_frame) {
-    const ObservedSurface observed(child_query.vertices(), child_query.faces());
     const RigidFit fit = rigid_initialisation(predicted, core::vertex_normals(predicted, model.mesh().F), child_query,
-                                              observed, model, pairwise);
+                                              model, pairwise);
     predicted = transformed(predicted, fit);
   }
   return predicted;

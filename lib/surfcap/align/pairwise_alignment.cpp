@@ -66,7 +66,7 @@ class PairwiseSchedule {
     const auto start = Clock::now();
     const Eigen::MatrixXd parent_surface = surface();
     const RigidFit rigid = rigid_initialisation(parent_surface, core::vertex_normals(parent_surface, model_.mesh().F),
-                                                target_, observed_, model_, options_);
+                                                target_, model_, options_);
     positions_ = transformed(positions_, rigid);
     const Eigen::Vector3d forward = rigid.rotation * Eigen::Vector3d::UnitZ();
     result_.heading_change = std::atan2(forward.x(), forward.z());

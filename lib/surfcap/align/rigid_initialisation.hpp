@@ -10,17 +10,14 @@
 namespace surfcap::align {
 
 class AlignmentTemplate;
-class ObservedSurface;
 struct PairwiseOptions;
 
 /// Rigid initialisation of a template surface (vertex normals `normals`) onto `target`: centroids
 /// matched, ICP; if the result does not overlap, the best of `heading_samples` rotations about the
 /// vertical axis (similar frames of different sequences may face differently: the shape
-/// similarity is invariant to heading). Only the template's observed vertices and the target's
-/// observed part (`observed`, observed_surface.hpp) take part: the centroid is the observed
-/// vertices', and a point whose closest target point is not observed scores as unmatched.
+/// similarity is invariant to heading).
 RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
-                              const geometry::SurfaceQuery& target, const ObservedSurface& observed,
-                              const AlignmentTemplate& model, const PairwiseOptions& options);
+                              const geometry::SurfaceQuery& target, const AlignmentTemplate& model,
+                              const PairwiseOptions& options);
 
 }  // namespace surfcap::align
