@@ -1,5 +1,6 @@
 #include "surfcap/align/alignment_template.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <numbers>
 
@@ -9,9 +10,25 @@
 
 namespace surfcap::align {
 
+namespace {
+
+TemplateSurface as_observed(core::Mesh mesh) {
+  TemplateSurface surface;
+  surface.observed_vertices = mesh.vertex_count();
+  surface.observed_faces = mesh.face_count();
+  surface.mesh = std::move(mesh);
+  return surface;
+}
+
+}  // namespace
+
 AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer)
+    : AlignmentTemplate(as_observed(std::move(mesh)), options, deformer) {}
+
+AlignmentTemplate::AlignmentTemplate(TemplateSurface surface, const PairwiseOptions& options,
+                                     const DeformerOptions& deformer)
     : seconds_tetrahedralisation_(0),
-      mesh_(std::move(mesh)),
+      mesh_(std::move(surface.mesh)),
       deformer_([&] {
         const auto start = std::chrono::steady_clock::now();
         VolumeDeformer built(mesh_, deformer);
@@ -20,12 +37,22 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
       }()),
       patches_(patch_hierarchy(mesh_.V, mesh_.F, options.patches, options.levels)),
       mean_edge_(geometry::mean_edge_length(mesh_.V, mesh_.F)),
-      height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()) {
+      height_(mesh_.V.col(1).maxCoeff() - mesh_.V.col(1).minCoeff()),
+      observed_vertices_(surface.observed_vertices),
+      observed_faces_(surface.observed_faces) {
   if (mesh_.has_colors()) smoothed_colors_ = smoothed_vertex_colors(mesh_.F, mesh_.colors, options.patch_color.smoothing);
   if (options.crease.weight)
     crease_vertices_ = straight_crease_vertices(
         mesh_.V, convex_crease_vertices(mesh_.V, mesh_.F, options.crease.angle_deg * std::numbers::pi / 180),
         options.crease.straight_radius_height * height_, options.crease.straightness.value_or(1.0));
+  crease_vertices_.erase(std::remove_if(crease_vertices_.begin(), crease_vertices_.end(),
+                                        [this](int v) { return !observed_vertex(v); }),
+                         crease_vertices_.end());
+}
+
+double AlignmentTemplate::unobserved_fraction() const {
+  const long n = mesh_.vertex_count();
+  return n > 0 ? static_cast<double>(n - observed_vertices_) / static_cast<double>(n) : 0.0;
 }
 
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {

@@ -1,11 +1,13 @@
 #pragma once
 // What is computed once per template and shared (read-only) by every pairwise alignment: the
-// deformation model, the patch hierarchy, smoothed colours, the rest surface's crease vertices.
+// deformation model, the patch hierarchy, smoothed colours, the rest surface's crease vertices,
+// and which of its vertices and faces are observed (template_closing.hpp).
 
 #include <Eigen/Core>
 #include <vector>
 
 #include "surfcap/align/surface_patches.hpp"
+#include "surfcap/align/template_closing.hpp"
 #include "surfcap/align/volume_deformer.hpp"
 #include "surfcap/core/mesh.hpp"
 
@@ -16,6 +18,9 @@ struct PairwiseOptions;
 class AlignmentTemplate {
  public:
   AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer = {});
+  /// A template whose vertices and faces beyond `surface.observed_*` close the root
+  /// reconstruction's holes: unobserved, no data target is set on them.
+  AlignmentTemplate(TemplateSurface surface, const PairwiseOptions& options, const DeformerOptions& deformer = {});
   const core::Mesh& mesh() const { return mesh_; }
   const VolumeDeformer& deformer() const { return deformer_; }
   const std::vector<PatchSet>& patches() const { return patches_; }
@@ -23,6 +28,14 @@ class AlignmentTemplate {
   const Eigen::MatrixXd& smoothed_colors() const { return smoothed_colors_; }
   /// Vertices on a straight convex crease of the template at rest (CreaseOptions).
   const std::vector<int>& crease_vertices() const { return crease_vertices_; }
+  /// Is surface vertex v the reconstruction's (not the closing surface's)?
+  bool observed_vertex(long v) const { return v < observed_vertices_; }
+  /// Is face f the reconstruction's?
+  bool observed_face(long f) const { return f < observed_faces_; }
+  /// Does the template have a closing surface (unobserved vertices)?
+  bool closed_by_fill() const { return observed_vertices_ < mesh_.vertex_count(); }
+  /// Share of the template's surface vertices on the closing surface (0: the root frame was closed).
+  double unobserved_fraction() const;
   double mean_edge() const { return mean_edge_; }
   double height() const { return height_; }  ///< extent along y at rest (m)
   double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
@@ -36,6 +49,7 @@ class AlignmentTemplate {
   std::vector<int> crease_vertices_;
   double mean_edge_ = 0;
   double height_ = 0;
+  long observed_vertices_ = 0, observed_faces_ = 0;
 };
 
 /// Vertex colours averaged with their neighbours' `rings` times (uniform weights).

@@ -4,15 +4,17 @@
 
 #include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/feature_constraints.hpp"
+#include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/align/pairwise_checks.hpp"
 
 namespace surfcap::align {
 
 CoverageTargets::CoverageTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
-                                 const PairwiseOptions& options)
+                                 const ObservedSurface& observed, const PairwiseOptions& options)
     : model_(model),
       target_(target),
+      observed_(observed),
       options_(options),
       target_normals_(core::vertex_normals(target.vertices(), target.faces())) {}
 
@@ -25,9 +27,12 @@ void CoverageTargets::add(const Eigen::MatrixXd& surface, double reach, TargetSe
   if (!far.empty()) {
     const geometry::SurfaceQuery aligned(surface, model_.mesh().F);
     for (const long i : far) {
+      if (!observed_.observed_vertex(i)) continue;
       const Eigen::Vector3d x = target_.vertices().row(i).transpose();
       const auto closest = aligned.closest_point_within(x, reach);
-      if (!closest || closest->face < 0 || closest->distance <= gate || closest->distance > reach) continue;
+      if (!closest || closest->face < 0 || closest->distance <= gate || closest->distance > reach ||
+          !model_.observed_face(closest->face))
+        continue;
       if (aligned.face_normal(closest->face).dot(target_normals_.row(i).transpose()) < options_.normal_compatibility)
         continue;
       pulls.push_back({closest->face, closest->barycentric, x});

@@ -2,7 +2,8 @@
 // Coverage pulls (child → template correspondences): the dense fit is one-sided (template →
 // reconstruction), so a limb left behind or laid onto another limb fits with a small residual.
 // Every reconstruction vertex farther than the uncovered gate from the aligned template (but
-// within reach) pulls its closest template point towards itself.
+// within reach) pulls its closest template point towards itself; a reconstruction vertex on a
+// hole's rim (observed_surface.hpp) pulls nothing, nor is the template's closing surface pulled.
 
 #include <Eigen/Core>
 
@@ -15,6 +16,7 @@
 namespace surfcap::align {
 
 class AlignmentTemplate;
+class ObservedSurface;
 struct PairwiseOptions;
 struct PairwiseResult;
 
@@ -30,7 +32,8 @@ struct CoverageOptions {
 
 class CoverageTargets {
  public:
-  CoverageTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const PairwiseOptions& options);
+  CoverageTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const ObservedSurface& observed,
+                  const PairwiseOptions& options);
   /// Adds the pulls of the reconstruction vertices uncovered by `surface` within `reach` (m),
   /// merged with the targets there (feature_constraints.hpp); counts them in `result`.
   void add(const Eigen::MatrixXd& surface, double reach, TargetSet& targets, PairwiseResult& result) const;
@@ -38,6 +41,7 @@ class CoverageTargets {
  private:
   const AlignmentTemplate& model_;
   const geometry::SurfaceQuery& target_;
+  const ObservedSurface& observed_;
   const PairwiseOptions& options_;
   Eigen::MatrixXd target_normals_;
 };

@@ -2,7 +2,8 @@
 // Crease targets: where a thin flap flares (a skirt's hem, a sole's rim), the one-sided dense fit
 // slides the template round its rim onto the underside; the template's straight convex crease
 // vertices at rest are drawn to the closest point of the reconstruction's convex creases
-// (creases.hpp), replacing their closest-point target.
+// (creases.hpp), replacing their closest-point target; not to a point on a hole's rim
+// (observed_surface.hpp).
 
 #include <Eigen/Core>
 
@@ -17,6 +18,7 @@ namespace surfcap::align {
 
 class AlignmentTemplate;
 class CreaseLines;
+class ObservedSurface;
 struct PairwiseResult;
 
 /// Template vertices on a convex crease of the rest surface (dihedral angle > `angle_deg`) are
@@ -51,8 +53,8 @@ struct CreaseOptions {
 class CreaseTargets {
  public:
   /// `normal_compatibility`: the minimum cosine between a vertex normal and a crease's bisector.
-  CreaseTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const CreaseOptions& options,
-                double normal_compatibility);
+  CreaseTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const ObservedSurface& observed,
+                const CreaseOptions& options, double normal_compatibility);
   ~CreaseTargets();
   CreaseTargets(const CreaseTargets&) = delete;
   CreaseTargets& operator=(const CreaseTargets&) = delete;
@@ -61,6 +63,8 @@ class CreaseTargets {
 
  private:
   const AlignmentTemplate& model_;
+  const geometry::SurfaceQuery& target_;
+  const ObservedSurface& observed_;
   const CreaseOptions& options_;
   double normal_compatibility_;
   std::unique_ptr<CreaseLines> lines_;  ///< null: off, or no crease vertex on the template

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "surfcap/align/alignment_template.hpp"
+#include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/geometry/vertex_grid.hpp"
@@ -10,9 +11,11 @@
 namespace surfcap::align {
 
 DenseTargets::DenseTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
-                           const Eigen::MatrixXd* target_colors, const PairwiseOptions& options)
+                           const ObservedSurface& observed, const Eigen::MatrixXd* target_colors,
+                           const PairwiseOptions& options)
     : model_(model),
       target_(target),
+      observed_(observed),
       target_colors_(target_colors),
       options_(options),
       gate_(options.dense_distance_edges * model.mean_edge()),
@@ -43,7 +46,8 @@ std::optional<Eigen::Vector3d> DenseTargets::colour_target(long v, const Eigen::
   });
   if (weight_sum <= 1e-6) return std::nullopt;
   const geometry::SurfacePoint projected = target_.closest_point(sum / weight_sum);
-  if (target_.face_normal(projected.face).dot(normal) < options_.normal_compatibility) return std::nullopt;
+  if (target_.face_normal(projected.face).dot(normal) < options_.normal_compatibility || !observed_.observed(projected))
+    return std::nullopt;
   return projected.position;
 }
 
@@ -53,8 +57,10 @@ long DenseTargets::add(const Eigen::MatrixXd& surface, TargetSet& targets, Pairw
   result.color_constraints = 0;
   for (long v = 0; v < model_.deformer().surface_vertex_count(); ++v) {
     geometry::SurfacePoint closest;
-    if (!compatible_closest_point(target_, surface.row(v).transpose(), normals.row(v).transpose(), gate_,
-                                  options_.normal_compatibility, closest))
+    if (!model_.observed_vertex(v) ||
+        !compatible_closest_point(target_, surface.row(v).transpose(), normals.row(v).transpose(), gate_,
+                                  options_.normal_compatibility, closest) ||
+        !observed_.observed(closest))
       continue;
     Eigen::Vector3d goal = closest.position;
     if (grid_) {

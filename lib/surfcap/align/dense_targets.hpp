@@ -2,6 +2,8 @@
 // Dense targets (casas2011 §3.2's final fit): every template surface vertex towards its compatible
 // closest point on the child's reconstruction or, when both meshes have vertex colours, towards the
 // colour-weighted mean of the reconstruction vertices near that point (photometric dense fit).
+// Neither the template's closing surface nor a vertex whose target is not observed (a hole's rim,
+// observed_surface.hpp) gets a target.
 
 #include <Eigen/Core>
 
@@ -19,6 +21,7 @@ class VertexGrid;
 namespace surfcap::align {
 
 class AlignmentTemplate;
+class ObservedSurface;
 struct PairwiseOptions;
 struct PairwiseResult;
 
@@ -38,7 +41,7 @@ struct ColorOptions {
 
 class DenseTargets {
  public:
-  DenseTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
+  DenseTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const ObservedSurface& observed,
                const Eigen::MatrixXd* target_colors, const PairwiseOptions& options);
   ~DenseTargets();
   DenseTargets(const DenseTargets&) = delete;
@@ -55,6 +58,7 @@ class DenseTargets {
 
   const AlignmentTemplate& model_;
   const geometry::SurfaceQuery& target_;
+  const ObservedSurface& observed_;
   const Eigen::MatrixXd* target_colors_;
   const PairwiseOptions& options_;
   double gate_ = 0, color_radius_ = 0;

@@ -1,5 +1,6 @@
 #include "surfcap/align/pairwise_alignment.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -29,11 +30,14 @@ class PairwiseSchedule {
         predicted_(predicted),
         surface_count_(model.deformer().surface_vertex_count()),
         positions_(parent_positions),
-        patches_(model, target, target_colors, options),
-        dense_(model, target, target_colors, options),
-        coverage_(model, target, options),
-        creases_(model, target, options.crease, options.normal_compatibility) {
+        observed_(target.vertices(), target.faces()),
+        patches_(model, target, observed_, target_colors, options),
+        dense_(model, target, observed_, target_colors, options),
+        coverage_(model, target, observed_, options),
+        creases_(model, target, observed_, options.crease, options.normal_compatibility) {
     result_.predicted = predicted != nullptr;
+    result_.holes = observed_.holes();
+    result_.largest_hole_perimeter = observed_.largest_hole_perimeter();
   }
 
   PairwiseResult run() {
@@ -71,6 +75,7 @@ class PairwiseSchedule {
           parent_surface, model_.mesh().F, *features_.parent, *features_.child, rigid.rotation, rigid.translation,
           options_.dense_distance_edges * model_.mean_edge(), model_.height(), options_.feature);
       feature_targets_ = std::move(matching.constraints);
+      drop_unobserved(feature_targets_);
       result_.feature_constraints = static_cast<long>(feature_targets_.size());
     }
     result_.timings.matching += seconds_since(start);
@@ -119,8 +124,9 @@ class PairwiseSchedule {
     const Eigen::MatrixXd current = surface();
     TargetSet targets(current);
     result_.dense_constraints = dense_.add(current, targets, result_);
-    const FlowTargets flow = flow_targets(*features_.appearance, current, model_.mesh().F, *features_.child_images,
+    FlowTargets flow = flow_targets(*features_.appearance, current, model_.mesh().F, *features_.child_images,
                                           target_, model_.mean_edge(), options_.flow);
+    drop_unobserved(flow);
     result_.flow_pixels = flow.pixels;
     result_.flow_vertices = set_flow_targets(flow, *options_.flow.weight, targets.positions, targets.weights);
     add_shared(current, true, options_.coarse_distance_height * model_.height(), targets);
@@ -128,6 +134,28 @@ class PairwiseSchedule {
     if (targets.weights.maxCoeff() <= 0) return false;
     solve(targets);
     return true;
+  }
+
+  /// Is `point` (on or near the child's reconstruction) on its observed part?
+  bool observed_target(const Eigen::Vector3d& point) const {
+    return !observed_.partial() || observed_.observed(target_.closest_point(point));
+  }
+
+  /// Image feature matches on the template's closing surface or landing on a hole's rim.
+  void drop_unobserved(std::vector<FeatureConstraint>& constraints) const {
+    if (!observed_.partial() && !model_.closed_by_fill()) return;
+    const auto unobserved = [this](const FeatureConstraint& c) {
+      return !model_.observed_face(c.face) || !observed_target(c.target);
+    };
+    constraints.erase(std::remove_if(constraints.begin(), constraints.end(), unobserved), constraints.end());
+  }
+
+  /// Flow targets of the closing surface's vertices or landing on a hole's rim.
+  void drop_unobserved(FlowTargets& flow) const {
+    if (!observed_.partial() && !model_.closed_by_fill()) return;
+    for (long v = 0; v < flow.support.size(); ++v)
+      if (flow.support(v) > 0 && (!model_.observed_vertex(v) || !observed_target(flow.targets.row(v).transpose())))
+        flow.support(v) = 0;
   }
 
   void solve(const TargetSet& targets) {
@@ -144,15 +172,34 @@ class PairwiseSchedule {
   void check() {
     const auto start = Clock::now();
     const Eigen::MatrixXd aligned = surface();
-    const Eigen::VectorXd distances = surface_distances(aligned, target_);
+    const Eigen::VectorXd distances = observed_distances(aligned);
     result_.mean_residual = distances.mean();
     result_.max_residual = distances.maxCoeff();
-    result_.uncovered_fraction = uncovered_fraction(target_, aligned, model_.mesh().F,
-                                                    options_.checks.uncovered_distance_edges * model_.mean_edge());
+    std::vector<char> counted;  // the observed reconstruction vertices
+    if (observed_.partial())
+      for (long i = 0; i < target_.vertices().rows(); ++i) counted.push_back(observed_.observed_vertex(i) ? 1 : 0);
+    result_.uncovered_fraction =
+        uncovered_fraction(target_, aligned, model_.mesh().F, options_.checks.uncovered_distance_edges * model_.mean_edge(),
+                           observed_.partial() ? &counted : nullptr);
     result_.stacked_fraction = stacked_fraction(model_.mesh().V, aligned, model_.mesh().F,
                                                 options_.checks.stacked_distance_edges * model_.mean_edge(),
                                                 options_.checks.stacked_rest_distance_height * model_.height());
     result_.timings.matching += seconds_since(start);
+  }
+
+  /// Distances aligned vertex → reconstruction of the vertices observed in the child (all of them
+  /// when none is); sets the unobserved fraction.
+  Eigen::VectorXd observed_distances(const Eigen::MatrixXd& aligned) {
+    if (!observed_.partial() && !model_.closed_by_fill()) return surface_distances(aligned, target_);
+    std::vector<double> observed, all;
+    for (long v = 0; v < aligned.rows(); ++v) {
+      const geometry::SurfacePoint closest = target_.closest_point(aligned.row(v).transpose());
+      all.push_back(closest.distance);
+      if (model_.observed_vertex(v) && observed_.observed(closest)) observed.push_back(closest.distance);
+    }
+    result_.unobserved_fraction = 1.0 - static_cast<double>(observed.size()) / static_cast<double>(all.size());
+    const std::vector<double>& kept = observed.empty() ? all : observed;
+    return Eigen::Map<const Eigen::VectorXd>(kept.data(), static_cast<long>(kept.size()));
   }
 
   const AlignmentTemplate& model_;
@@ -165,6 +212,7 @@ class PairwiseSchedule {
   PairwiseResult result_;
   std::vector<FeatureConstraint> feature_targets_;
   geometry::SparseCholesky solver_;  ///< refactored by every solve (one symbolic analysis per pair)
+  ObservedSurface observed_;  ///< of the child's reconstruction; before the sources that hold it
   PatchTargets patches_;
   DenseTargets dense_;
   CoverageTargets coverage_;

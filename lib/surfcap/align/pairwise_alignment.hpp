@@ -5,6 +5,9 @@
 // dense iterations and appearance-flow iterations, each step merging the targets of the
 // correspondence sources (one file each: patch_targets, dense_targets, crease_targets,
 // coverage_targets, feature_constraints, appearance_flow), then the checks of pairwise_checks.
+// Every source takes its targets only from the observed part of the child's reconstruction (not
+// on or near a hole's rim) and sets none on the template's closing surface (observed_surface.hpp,
+// template_closing.hpp); the residuals are over the template vertices observed in the child.
 
 #include <Eigen/Core>
 #include <vector>
@@ -15,6 +18,7 @@
 #include "surfcap/align/crease_targets.hpp"
 #include "surfcap/align/dense_targets.hpp"
 #include "surfcap/align/image_features.hpp"
+#include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_checks.hpp"
 #include "surfcap/align/patch_targets.hpp"
 #include "surfcap/align/rigid_icp.hpp"
@@ -101,12 +105,17 @@ struct PairwiseResult {
   bool predicted = false;       ///< a motion prediction was given (align_pair's predicted_surface)
   int predicted_patches = 0;    ///< patch fits taken from the motion-predicted start
   double heading_change = 0;    ///< radians, of the rigid initialisation
-  double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m)
+  double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m), observed vertices
   double max_residual = 0;
   double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
   /// Of the template's surface vertices, those in stacked layers (pairwise_checks.hpp).
   double stacked_fraction = 0;
   long crease_constraints = 0;  ///< template crease vertices drawn to the reconstruction's creases (last solve)
+  long holes = 0;                    ///< holes left open in the child's reconstruction
+  double largest_hole_perimeter = 0;  ///< metres
+  /// Of the template's surface vertices, those with no observation in the child: the closing
+  /// surface, and the vertices whose closest reconstruction point lies on a hole's rim.
+  double unobserved_fraction = 0;
   PairwiseTimings timings;
 };
 

@@ -44,18 +44,20 @@ std::vector<long> far_from_vertices(const Eigen::MatrixXd& points, const Eigen::
 }
 
 double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& aligned,
-                          const Eigen::MatrixXi& F, double gate) {
+                          const Eigen::MatrixXi& F, double gate, const std::vector<char>* counted) {
   const std::vector<long> far = far_from_vertices(target.vertices(), aligned, gate);
   long uncovered = 0;
   if (!far.empty()) {
     const geometry::SurfaceQuery query(aligned, F);
     for (const long i : far) {
+      if (counted && !(*counted)[static_cast<std::size_t>(i)]) continue;
       const auto closest = query.closest_point_within(target.vertices().row(i).transpose(), gate);
       if (!closest || closest->distance > gate) ++uncovered;
     }
   }
-  return target.vertices().rows() > 0 ? static_cast<double>(uncovered) / static_cast<double>(target.vertices().rows())
-                                      : 0.0;
+  const long total = counted ? static_cast<long>(std::count(counted->begin(), counted->end(), 1))
+                             : static_cast<long>(target.vertices().rows());
+  return total > 0 ? static_cast<double>(uncovered) / static_cast<double>(total) : 0.0;
 }
 
 double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,

@@ -69,9 +69,9 @@ struct FailureOptions {
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
 
 /// Fraction of the target's vertices farther than `gate` from the surface (`aligned`, `F`): the
-/// posed template.
+/// posed template. With `counted` (per target vertex), of the counted vertices only.
 double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& aligned,
-                          const Eigen::MatrixXi& F, double gate);
+                          const Eigen::MatrixXi& F, double gate, const std::vector<char>* counted = nullptr);
 
 /// The rows of `points` with no row of `V` within `gate` (ascending): the only points whose
 /// closest point on a surface with vertices `V` can lie farther than `gate` (a surface is never

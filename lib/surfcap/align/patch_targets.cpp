@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "surfcap/align/alignment_template.hpp"
+#include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 
 namespace surfcap::align {
@@ -38,8 +39,9 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& matrix, const std::vector<int>& m
 }  // namespace
 
 PatchTargets::PatchTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
-                           const Eigen::MatrixXd* target_colors, const PairwiseOptions& options)
-    : model_(model), target_(target), options_(options) {
+                           const ObservedSurface& observed, const Eigen::MatrixXd* target_colors,
+                           const PairwiseOptions& options)
+    : model_(model), target_(target), observed_(observed), options_(options) {
   const PatchColorOptions& colour = options.patch_color;
   if (colour.scale && colour.levels > 0 && model.smoothed_colors().rows() == model.deformer().surface_vertex_count() &&
       target_colors != nullptr && target_colors->rows() == target.vertices().rows()) {
@@ -98,16 +100,30 @@ void PatchTargets::add(std::size_t level, const Eigen::MatrixXd& surface, const 
                        TargetSet& targets, PairwiseResult& result) const {
   const Eigen::MatrixXd normals = core::vertex_normals(surface, model_.mesh().F);
   const IcpOptions settings = icp(level);
-  for (const auto& members : model_.patches()[level].vertices) {
-    const RigidFit fit = fit_patch(level, members, surface, normals, predicted, settings, result);
-    ++result.total_patches;
-    if (static_cast<double>(fit.inliers) < options_.min_patch_inliers * static_cast<double>(members.size())) continue;
-    ++result.accepted_patches;
-    for (const int v : members) {
-      targets.positions.row(v) = fit.apply(surface.row(v).transpose()).transpose();
-      targets.weights(v) = options_.patch_weight;
+  std::vector<int> observed_members;
+  for (const auto& patch : model_.patches()[level].vertices) {
+    const std::vector<int>* members = &patch;
+    if (model_.closed_by_fill()) {
+      observed_members.clear();
+      for (const int v : patch)
+        if (model_.observed_vertex(v)) observed_members.push_back(v);
+      members = &observed_members;
     }
-    result.patch_constraints += static_cast<long>(members.size());
+    ++result.total_patches;
+    if (members->empty()) continue;
+    const RigidFit fit = fit_patch(level, *members, surface, normals, predicted, settings, result);
+    if (static_cast<double>(fit.inliers) < options_.min_patch_inliers * static_cast<double>(members->size())) continue;
+    ++result.accepted_patches;
+    for (const int v : *members) {
+      const Eigen::Vector3d goal = fit.apply(surface.row(v).transpose());
+      if (observed_.partial()) {
+        const auto closest = target_.closest_point_within(goal, settings.max_distance);
+        if (closest && !observed_.observed(*closest)) continue;
+      }
+      targets.positions.row(v) = goal.transpose();
+      targets.weights(v) = options_.patch_weight;
+      ++result.patch_constraints;
+    }
   }
 }
 

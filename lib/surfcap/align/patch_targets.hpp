@@ -4,6 +4,8 @@
 // vertices become soft targets. At the coarsest levels each patch is fitted from two more starts
 // or correspondence kinds, and a model selection per patch keeps the better fit: colour-aware
 // correspondences (when both meshes have colours) and the motion-predicted pose (when given).
+// Only the template's observed vertices are fitted and targeted, and a fitted vertex whose closest
+// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target.
 
 #include <Eigen/Core>
 
@@ -19,6 +21,7 @@
 namespace surfcap::align {
 
 class AlignmentTemplate;
+class ObservedSurface;
 struct PairwiseOptions;
 struct PairwiseResult;
 
@@ -66,7 +69,7 @@ class PatchTargets {
  public:
   /// `target_colors` (per target vertex, 0..1; may be null) enable the colour-aware fits when the
   /// template has colours too.
-  PatchTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
+  PatchTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target, const ObservedSurface& observed,
                const Eigen::MatrixXd* target_colors, const PairwiseOptions& options);
   ~PatchTargets();
   PatchTargets(const PatchTargets&) = delete;
@@ -88,6 +91,7 @@ class PatchTargets {
 
   const AlignmentTemplate& model_;
   const geometry::SurfaceQuery& target_;
+  const ObservedSurface& observed_;
   const PairwiseOptions& options_;
   Eigen::MatrixXd target_smoothed_colors_;
   std::unique_ptr<ColoredTarget> colored_;  ///< null: no colour-aware fits

@@ -50,7 +50,8 @@ core::Json record_to_json(const FrameRecord& record) {
             {"predicted_patches", a.predicted_patches}, {"heading_change", a.heading_change},
             {"mean_residual", a.mean_residual}, {"max_residual", a.max_residual},
             {"uncovered_fraction", a.uncovered_fraction}, {"stacked_fraction", a.stacked_fraction},
-            {"crease_constraints", a.crease_constraints},
+            {"crease_constraints", a.crease_constraints}, {"holes", a.holes},
+            {"largest_hole_perimeter", a.largest_hole_perimeter}, {"unobserved_fraction", a.unobserved_fraction},
             {"timings", {{"matching", a.timings.matching}, {"factorisation", a.timings.factorisation},
                          {"solves", a.timings.solves}}}}}};
 }
@@ -91,6 +92,9 @@ FrameRecord record_from_json(const core::Json& j) {
   s.at("uncovered_fraction").get_to(a.uncovered_fraction);
   s.at("stacked_fraction").get_to(a.stacked_fraction);
   s.at("crease_constraints").get_to(a.crease_constraints);
+  s.at("holes").get_to(a.holes);
+  s.at("largest_hole_perimeter").get_to(a.largest_hole_perimeter);
+  s.at("unobserved_fraction").get_to(a.unobserved_fraction);
   const core::Json& t = s.at("timings");
   t.at("matching").get_to(a.timings.matching);
   t.at("factorisation").get_to(a.timings.factorisation);
@@ -177,7 +181,8 @@ void write_registration_part(const std::filesystem::path& path, const PartLabel&
   if (label.shard == 0)
     document["template"] = {{"deformer", summary.deformer_model}, {"volume_vertices", summary.volume_vertices},
                             {"elements", summary.elements}, {"seconds", summary.seconds_template},
-                            {"appearance_coverage", summary.appearance_coverage}};
+                            {"appearance_coverage", summary.appearance_coverage},
+                            {"observed_vertices", summary.template_observed_vertices}};
   core::write_json_file(path, document);
 }
 
@@ -208,6 +213,7 @@ RegistrationPart read_registration_part(const std::filesystem::path& path, const
       t.at("elements").get_to(summary->elements);
       t.at("seconds").get_to(summary->seconds_template);
       t.at("appearance_coverage").get_to(summary->appearance_coverage);
+      t.at("observed_vertices").get_to(summary->template_observed_vertices);
       volume_vertices = summary->volume_vertices;
     }
     const auto npy = positions_path(path);

@@ -25,8 +25,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// A frame's reconstruction: small holes filled, large ones (a floor cut, an unseen region) left
+/// open; the correspondence sources use only its observed part (observed_surface.hpp).
 core::Mesh read_reconstruction(const core::Capture& capture, const NodeFrame& node) {
-  return core::read_reconstruction(capture.mesh_path(node.sequence, node.frame), node.frame);
+  core::RepairLimits limits;
+  limits.keep_large_holes_open = true;
+  return core::read_reconstruction(capture.mesh_path(node.sequence, node.frame), node.frame, limits);
 }
 
 std::vector<NodeFrame> node_frames(const core::Capture& capture, const similarity::FrameList& frames) {
@@ -256,7 +260,8 @@ std::unique_ptr<TemplateAppearance> root_appearance(const core::Capture& capture
 
 /// The records of every node, the root's filled in (the template on its own reconstruction).
 void start_records(Registration& registration, const core::Capture& capture, const std::vector<NodeFrame>& nodes,
-                   long root, const core::Mesh& template_mesh) {
+                   long root, const TemplateSurface& template_surface) {
+  const core::Mesh& template_mesh = template_surface.mesh;
   registration.frames.resize(nodes.size());
   for (std::size_t node = 0; node < nodes.size(); ++node) {
     auto& record = registration.frames[node];
@@ -269,6 +274,10 @@ void start_records(Registration& registration, const core::Capture& capture, con
   const Eigen::VectorXd distances = surface_distances(template_mesh.V, query);
   record.alignment.mean_residual = distances.mean();
   record.alignment.max_residual = distances.maxCoeff();
+  record.alignment.holes = template_surface.holes;
+  record.alignment.largest_hole_perimeter = template_surface.largest_hole_perimeter;
+  record.alignment.unobserved_fraction =
+      1.0 - static_cast<double>(template_surface.observed_vertices) / static_cast<double>(template_mesh.vertex_count());
 }
 
 /// The image features of the parents of `edges` that are not at hand (released, or aligned by
@@ -371,7 +380,7 @@ struct TreeRegistration::Impl {
   const TreePartition partition;
   const NodeFrame root;
   Registration registration;  ///< the template's figures and the records
-  core::Mesh template_mesh;
+  TemplateSurface template_surface;
   std::unique_ptr<AlignmentTemplate> model;
   std::unique_ptr<MotionPredictor> predictor;
   std::unique_ptr<TemplateAppearance> appearance;
@@ -400,20 +409,25 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   options.validate();
   Impl& m = *impl_;
   const auto template_start = Clock::now();
-  m.template_mesh = read_reconstruction(capture, m.root);
-  m.model = std::make_unique<AlignmentTemplate>(m.template_mesh, options.pairwise, options.deformer);
+  m.template_surface = close_template(read_reconstruction(capture, m.root));
+  m.model = std::make_unique<AlignmentTemplate>(m.template_surface, options.pairwise, options.deformer);
+  const core::Mesh& template_mesh = m.model->mesh();
   Registration& registration = m.registration;
   registration.seconds_template = std::chrono::duration<double>(Clock::now() - template_start).count();
   registration.deformer_model = m.model->deformer().model();
   registration.volume_vertices = m.model->deformer().vertex_count();
   registration.elements = m.model->deformer().element_count();
+  registration.template_observed_vertices = m.template_surface.observed_vertices;
   spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
                capture.sequences[static_cast<std::size_t>(m.root.sequence)].name, m.root.frame,
-               m.template_mesh.vertex_count(), registration.deformer_model, registration.volume_vertices,
+               template_mesh.vertex_count(), registration.deformer_model, registration.volume_vertices,
                registration.elements);
+  if (m.template_surface.holes > 0)
+    spdlog::info("template: {} holes of the root reconstruction closed; {:.1f} % of the template is unobserved",
+                 m.template_surface.holes, 100 * m.model->unobserved_fraction());
   spdlog::info("tree partition: a trunk of {} frames and {} units of at most {} frames", m.partition.trunk_size,
                m.partition.units(), m.partition.bound);
-  start_records(registration, capture, m.nodes, tree.root, m.template_mesh);
+  start_records(registration, capture, m.nodes, tree.root, m.template_surface);
 
   m.predictor = std::make_unique<MotionPredictor>(m.nodes, options.costs, options.motion);
   m.state = std::make_unique<TreeState>(capture, m.nodes, tree, m.partition, options, *m.model, *m.predictor,
@@ -439,7 +453,8 @@ void TreeRegistration::align_trunk() {
   state.positions[root] = m.model->deformer().rest();
   state.aligned[root] = 1;
   if (state.use_features) {
-    state.features[root] = state.detect_features(m.root, geometry::SurfaceQuery(m.template_mesh.V, m.template_mesh.F));
+    const core::Mesh& template_mesh = m.model->mesh();
+    state.features[root] = state.detect_features(m.root, geometry::SurfaceQuery(template_mesh.V, template_mesh.F));
     state.features_ready[root] = 1;
     m.registration.frames[root].features = state.features[root].size();
   }
@@ -500,7 +515,7 @@ Registration assemble_registration(const core::Capture& capture, const similarit
                                    const Registration& summary) {
   const std::vector<NodeFrame> nodes = node_frames(capture, frames);
   const NodeFrame root = nodes.at(static_cast<std::size_t>(tree.root));
-  const core::Mesh template_mesh = read_reconstruction(capture, root);
+  const core::Mesh template_mesh = close_template(read_reconstruction(capture, root)).mesh;
   Registration registration = summary;  // the template's figures; frames and positions from the parts
   registration.frames.assign(nodes.size(), FrameRecord{});
   registration.world_positions.assign(nodes.size(), Eigen::MatrixXd{});

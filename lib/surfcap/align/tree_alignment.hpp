@@ -97,6 +97,9 @@ struct Registration {
   long volume_vertices = 0, elements = 0;
   double seconds_template = 0;
   double appearance_coverage = 0;  ///< template faces seen by a root camera (0: no appearance flow)
+  /// The first this many template vertices are the root reconstruction's, the rest close its holes
+  /// (template_closing.hpp).
+  long template_observed_vertices = 0;
 };
 
 /// All deformer vertices (surface + interior) for a posed template surface (n×3): the rest volume

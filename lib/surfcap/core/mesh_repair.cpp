@@ -171,9 +171,6 @@ Pieces find_pieces(SurfaceMesh& surface, const RepairLimits& limits, RepairRepor
   return pieces;
 }
 
-constexpr const char* kOpenSurfaceHint =
-    "; the alignment needs closed surfaces (histograms, similarity and tree read open ones)";
-
 /// Fills the holes of every piece but debris; the new faces join the hole's piece. Holes beyond
 /// the limits are refused, or left open with keep_large_holes_open.
 void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& input_vertices, const RepairLimits& limits,
@@ -185,7 +182,7 @@ void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& inp
   const bool keep_open = limits.keep_large_holes_open;
   if (!keep_open && static_cast<long>(holes.size()) > limits.max_holes)
     throw bad_input(source, "open surface with " + std::to_string(holes.size()) + " holes: too many to fill (up to " +
-                                std::to_string(limits.max_holes) + " are repaired)" + kOpenSurfaceHint, frame);
+                                std::to_string(limits.max_holes) + " are repaired)", frame);
   std::vector<long> sizes;
   std::vector<double> perimeters;
   for (const auto h : holes) {
@@ -209,8 +206,7 @@ void fill_holes(SurfaceMesh& surface, Pieces& pieces, const Eigen::MatrixXd& inp
       char bounds[120];
       std::snprintf(bounds, sizeof bounds, "holes of up to %ld edges and %.0f%% are repaired", limits.max_hole_edges,
                     100 * limits.max_hole_perimeter);
-      throw bad_input(source, std::string("open surface with ") + figures + ": too large to fill (" + bounds + ")" +
-                                  kOpenSurfaceHint, frame);
+      throw bad_input(source, std::string("open surface with ") + figures + ": too large to fill (" + bounds + ")", frame);
     }
   }
   for (std::size_t k = 0; k < holes.size(); ++k) {

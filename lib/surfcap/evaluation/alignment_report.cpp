@@ -11,6 +11,7 @@
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/mesh_repair.hpp"
+#include "surfcap/align/observed_surface.hpp"
 
 namespace surfcap::evaluation {
 
@@ -64,11 +65,16 @@ cv::Mat render_panel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const E
 }  // namespace
 
 core::Json alignment_figures(const align::Registration& registration) {
+  const auto template_unobserved_fraction = [](const align::Registration& r) {
+    const long n = r.database.template_mesh.vertex_count();
+    return n > 0 ? 1.0 - static_cast<double>(r.template_observed_vertices) / static_cast<double>(n) : 0.0;
+  };
   core::Json frames = core::Json::array();
   double mean_sum = 0, worst = 0;
   long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
   int max_depth = 0;
-  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0;
+  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0, frames_with_holes = 0;
+  double most_unobserved = 0;
   for (const auto& record : registration.frames) {
     const auto& a = record.alignment;
     core::Json attempts = core::Json::array();
@@ -88,6 +94,8 @@ core::Json alignment_figures(const align::Registration& registration) {
                       {"max_residual_m", a.max_residual},
                       {"uncovered_fraction", a.uncovered_fraction},
                       {"stacked_fraction", a.stacked_fraction},
+                      {"holes", {{"count", a.holes}, {"largest_perimeter_m", a.largest_hole_perimeter}}},
+                      {"unobserved_fraction", a.unobserved_fraction},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints},
                                            {"coverage", a.coverage_constraints}, {"crease", a.crease_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
@@ -114,6 +122,8 @@ core::Json alignment_figures(const align::Registration& registration) {
     max_depth = std::max(max_depth, record.depth);
     predicted_frames += a.predicted ? 1 : 0;
     predicted_patches += a.predicted_patches;
+    frames_with_holes += a.holes > 0 ? 1 : 0;
+    most_unobserved = std::max(most_unobserved, a.unobserved_fraction);
   }
   const double count = std::max<double>(1.0, static_cast<double>(registration.frames.size()));
   return {{"frames", frames},
@@ -131,7 +141,10 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"volume_vertices", registration.volume_vertices},
                        {"elements", registration.elements},
                        {"template_seconds", registration.seconds_template},
-                       {"appearance_coverage", registration.appearance_coverage}}}};
+                       {"appearance_coverage", registration.appearance_coverage},
+                       {"frames_with_holes", frames_with_holes},
+                       {"template_unobserved_fraction", template_unobserved_fraction(registration)},
+                       {"max_unobserved_fraction", most_unobserved}}}};
 }
 
 std::vector<long> preview_nodes(const align::Registration& registration, int count) {
@@ -154,22 +167,34 @@ std::vector<long> preview_nodes(const align::Registration& registration, int cou
 
 namespace {
 
-void write_sheet(const std::filesystem::path& path, const std::vector<cv::Mat>& panels, double scale,
-                 const std::string& what) {
+/// The legend of a heat scale in millimetres.
+std::string millimetre_legend(double scale, const std::string& what) {
+  char legend[160];
+  std::snprintf(legend, sizeof legend, "0 .. %.1f mm %s", 1000 * scale, what.c_str());
+  return legend;
+}
+
+void write_sheet(const std::filesystem::path& path, const std::vector<cv::Mat>& panels, const std::string& legend) {
   if (panels.empty()) return;
   cv::Mat sheet;
   cv::hconcat(panels, sheet);
   cv::Mat bar(28, sheet.cols, CV_8UC3, cv::Scalar(255, 255, 255));
   for (int x = 0; x < 200 && x + 10 < bar.cols; ++x)
     cv::line(bar, cv::Point(10 + x, 4), cv::Point(10 + x, 14), heat_bgr(x / 199.0));
-  char legend[160];
-  std::snprintf(legend, sizeof legend, "0 .. %.1f mm %s", 1000 * scale, what.c_str());
   cv::putText(bar, legend, cv::Point(220, 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_8);
   cv::vconcat(sheet, bar, sheet);
   std::vector<std::uint8_t> bytes;
   if (!cv::imencode(".png", sheet, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}))
     throw core::io_error(path, "PNG encoding failed");
   core::write_file_atomically(path, std::span(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size()));
+}
+
+/// A frame's reconstruction as the alignment read it (large holes open).
+core::Mesh read_frame(const core::Capture& capture, const align::FrameRecord& record) {
+  core::RepairLimits limits;
+  limits.keep_large_holes_open = true;
+  return core::read_reconstruction(capture.mesh_path(capture.sequence_index(record.sequence), record.frame),
+                                   record.frame, limits);
 }
 
 std::string node_label(const align::FrameRecord& record, const char* what, double value) {
@@ -181,41 +206,84 @@ std::string node_label(const align::FrameRecord& record, const char* what, doubl
 
 }  // namespace
 
-void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
-                            const align::Registration& registration, const std::vector<long>& nodes, double scale) {
-  const int size = 360;
-  std::vector<cv::Mat> panels;
-  const Eigen::MatrixXi& F = registration.database.template_mesh.F;
+namespace {
+
+constexpr int kPanelSize = 360;
+
+/// Calls visit(record, its reconstruction as aligned, aligned template positions) for each node.
+template <class Visit>
+void visit_nodes(const core::Capture& capture, const align::Registration& registration, const std::vector<long>& nodes,
+                 Visit&& visit) {
   for (const long node : nodes) {
     const auto& record = registration.frames[static_cast<std::size_t>(node)];
-    const core::Mesh target = core::read_reconstruction(
-        capture.mesh_path(capture.sequence_index(record.sequence), record.frame), record.frame);
-    const geometry::SurfaceQuery query(target.V, target.F);
-    const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(node)];
-    const Eigen::VectorXd values = align::surface_distances(V, query);
-    panels.push_back(render_panel(V, F, values, scale, size, node_label(record, "mean", values.mean())));
+    visit(record, read_frame(capture, record), registration.world_positions[static_cast<std::size_t>(node)]);
   }
-  write_sheet(path, panels, scale, "to the reconstruction");
+}
+
+/// The front panel and the side view (a quarter turn about the vertical through the centroid).
+void add_front_and_side(std::vector<cv::Mat>& panels, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                        const Eigen::VectorXd& values, double scale, const std::string& label) {
+  panels.push_back(render_panel(V, F, values, scale, kPanelSize, label));
+  Eigen::MatrixXd side = V.rowwise() - V.colwise().mean();
+  side.col(0).swap(side.col(2));
+  side.col(0) *= -1;
+  panels.push_back(render_panel(side, F, values, scale, kPanelSize, "side"));
+}
+
+}  // namespace
+
+void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
+                            const align::Registration& registration, const std::vector<long>& nodes, double scale) {
+  std::vector<cv::Mat> panels;
+  const Eigen::MatrixXi& F = registration.database.template_mesh.F;
+  visit_nodes(capture, registration, nodes,
+              [&](const align::FrameRecord& record, const core::Mesh& target, const Eigen::MatrixXd& V) {
+                const geometry::SurfaceQuery query(target.V, target.F);
+                const Eigen::VectorXd values = align::surface_distances(V, query);
+                panels.push_back(render_panel(V, F, values, scale, kPanelSize, node_label(record, "mean", values.mean())));
+              });
+  write_sheet(path, panels, millimetre_legend(scale, "to the reconstruction"));
+}
+
+bool has_unobserved(const align::Registration& registration) {
+  if (registration.template_observed_vertices < registration.database.template_mesh.vertex_count()) return true;
+  return std::any_of(registration.frames.begin(), registration.frames.end(),
+                     [](const align::FrameRecord& record) { return record.alignment.holes > 0; });
+}
+
+void write_observation_preview(const std::filesystem::path& path, const core::Capture& capture,
+                               const align::Registration& registration, const std::vector<long>& nodes) {
+  std::vector<cv::Mat> panels;
+  const Eigen::MatrixXi& F = registration.database.template_mesh.F;
+  visit_nodes(capture, registration, nodes,
+              [&](const align::FrameRecord& record, const core::Mesh& target, const Eigen::MatrixXd& V) {
+                const geometry::SurfaceQuery query(target.V, target.F);
+                const align::ObservedSurface observed(target.V, target.F);
+                Eigen::VectorXd values = Eigen::VectorXd::Zero(V.rows());
+                for (long v = 0; v < V.rows(); ++v)
+                  if (v >= registration.template_observed_vertices) values(v) = 1;
+                  else if (observed.partial() && !observed.observed(query.closest_point(V.row(v).transpose())))
+                    values(v) = 0.75;
+                char label[200];
+                std::snprintf(label, sizeof label, "%s:%d %ld holes, %.0f %% unobserved", record.sequence.c_str(),
+                              record.frame, record.alignment.holes, 100 * record.alignment.unobserved_fraction);
+                add_front_and_side(panels, V, F, values, 1.0, label);
+              });
+  write_sheet(path, panels, "observed (blue), over a hole's rim in this frame (orange), closing surface (red)");
 }
 
 void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,
                          const std::vector<long>& nodes, const std::vector<Eigen::VectorXd>& values, double scale,
                          const std::string& what) {
-  const int size = 360;
   std::vector<cv::Mat> panels;
   const Eigen::MatrixXi& F = registration.database.template_mesh.F;
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     const auto& record = registration.frames[static_cast<std::size_t>(nodes[k])];
     const Eigen::MatrixXd& V = registration.world_positions[static_cast<std::size_t>(nodes[k])];
     const std::string label = node_label(record, "rms", std::sqrt(values[k].squaredNorm() / static_cast<double>(values[k].size())));
-    panels.push_back(render_panel(V, F, values[k], scale, size, label));
-    // Side view: rotate a quarter turn about the vertical axis through the centroid.
-    Eigen::MatrixXd side = V.rowwise() - V.colwise().mean();
-    side.col(0).swap(side.col(2));
-    side.col(0) *= -1;
-    panels.push_back(render_panel(side, F, values[k], scale, size, "side"));
+    add_front_and_side(panels, V, F, values[k], scale, label);
   }
-  write_sheet(path, panels, scale, what);
+  write_sheet(path, panels, millimetre_legend(scale, what));
 }
 
 }  // namespace surfcap::evaluation

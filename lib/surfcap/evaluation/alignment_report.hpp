@@ -25,6 +25,16 @@ std::vector<long> preview_nodes(const align::Registration& registration, int cou
 void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
                             const align::Registration& registration, const std::vector<long>& nodes, double scale);
 
+/// Is any template vertex without observation: a closing surface, or a frame with open holes?
+bool has_unobserved(const align::Registration& registration);
+
+/// The aligned template of each node, front and side, coloured by observation: blue where the
+/// vertex is the reconstruction's and its closest point on the frame's reconstruction is observed,
+/// orange where that point lies on a hole's rim (align/observed_surface.hpp), red on the closing
+/// surface of the template; the label gives the frame's holes and unobserved fraction.
+void write_observation_preview(const std::filesystem::path& path, const core::Capture& capture,
+                               const align::Registration& registration, const std::vector<long>& nodes);
+
 /// The same panels coloured by given per-vertex values (e.g. the error against ground truth),
 /// front and side views of each node; `what` labels the colour bar.
 void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,

@@ -18,7 +18,8 @@ std::optional<std::filesystem::path> ground_truth_file(const core::Capture& capt
   return std::nullopt;
 }
 
-TruthReference::TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned)
+TruthReference::TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned,
+                               long observed_vertices)
     : capture_(capture) {
   const auto truth_path = ground_truth_file(capture);
   if (!truth_path) throw core::bad_input(capture.folder, "has no ground_truth/truth.json");
@@ -36,7 +37,8 @@ TruthReference::TruthReference(const core::Capture& capture, const core::Aligned
       truth_dir / core::expand_pattern(root_entry.at("correspondence_face").get<std::string>(), aligned.root_frame);
   const auto bary_path = truth_dir / core::expand_pattern(root_entry.at("correspondence_barycentric").get<std::string>(),
                                                           aligned.root_frame);
-  const long n = aligned.template_mesh.vertex_count();
+  const long n = observed_vertices < 0 ? aligned.template_mesh.vertex_count()
+                                       : std::min(observed_vertices, aligned.template_mesh.vertex_count());
   const core::NpyArray faces = core::read_npy(face_path, core::DType::int32, {n});
   barycentric_ = core::read_npy_matrix(bary_path, n, 3);
   const Eigen::MatrixXi& true_F = truth_.template_mesh.F;
@@ -44,6 +46,22 @@ TruthReference::TruthReference(const core::Capture& capture, const core::Aligned
   for (long v = 0; v < n; ++v)
     if (faces_[static_cast<std::size_t>(v)] < 0 || faces_[static_cast<std::size_t>(v)] >= true_F.rows())
       throw core::bad_input(face_path, "face index out of range at vertex " + std::to_string(v));
+
+  // Status (studio models): phantom volume, outliers and blobs have no true location on the surface.
+  evaluated_.assign(static_cast<std::size_t>(n), 1);
+  if (root_entry.contains("correspondence_status") && truth.contains("status_codes")) {
+    const auto status_path = truth_dir / core::expand_pattern(root_entry.at("correspondence_status").get<std::string>(),
+                                                              aligned.root_frame);
+    const core::NpyArray status = core::read_npy(status_path, core::DType::uint8, {n});
+    const auto& codes = truth.at("status_codes");
+    const int on_surface = codes.at("on_surface").get<int>(), rough = codes.value("rough", on_surface);
+    for (long v = 0; v < n; ++v) {
+      const int code = status.data<std::uint8_t>()[v];
+      evaluated_[static_cast<std::size_t>(v)] = code == on_surface || code == rough ? 1 : 0;
+    }
+  }
+  evaluated_fraction_ = static_cast<double>(std::count(evaluated_.begin(), evaluated_.end(), 1)) /
+                        static_cast<double>(std::max<long>(1, aligned.template_mesh.vertex_count()));
 
   // Regions (optional: the dance capture has none), split by side of the rest pose (x sign).
   regions_ = Eigen::VectorXi::Constant(n, -1);
@@ -148,18 +166,23 @@ FrameTruthError frame_error(const TruthReference& truth, const align::FrameRecor
                             const Eigen::MatrixXd& world, const Eigen::MatrixXi& F, ErrorSums& sums) {
   const Eigen::MatrixXd expected = truth.positions(record.sequence, record.frame);
   const Eigen::MatrixXd normals = core::vertex_normals(expected, F);
-  const Eigen::MatrixXd error = world - expected;
-  const Eigen::VectorXd squared = error.rowwise().squaredNorm();
-  const Eigen::VectorXd along = (error.array() * normals.array()).rowwise().sum();
-  const long n = squared.size();
+  const Eigen::MatrixXd error = world.topRows(expected.rows()) - expected;
+  Eigen::VectorXd squared = error.rowwise().squaredNorm();
+  Eigen::VectorXd along = (error.array() * normals.array()).rowwise().sum();
+  long n = 0;
+  for (long v = 0; v < squared.size(); ++v) {
+    if (truth.evaluated(v)) ++n;
+    else squared(v) = along(v) = 0;  // not on the true surface: no error
+  }
   FrameTruthError frame;
-  frame.rms = std::sqrt(squared.mean());
+  frame.rms = std::sqrt(squared.sum() / static_cast<double>(std::max<long>(1, n)));
   frame.max = std::sqrt(squared.maxCoeff());
-  frame.normal_rms = std::sqrt(along.squaredNorm() / static_cast<double>(n));
+  frame.normal_rms = std::sqrt(along.squaredNorm() / static_cast<double>(std::max<long>(1, n)));
   frame.tangential_rms = std::sqrt(std::max(0.0, frame.rms * frame.rms - frame.normal_rms * frame.normal_rms));
   frame.observed = truth.observed(record.sequence, record.frame);
   long seen = 0;
-  for (long v = 0; v < n; ++v) {
+  for (long v = 0; v < squared.size(); ++v) {
+    if (!truth.evaluated(v)) continue;
     if (frame.observed[static_cast<std::size_t>(v)]) {
       sums.observed += squared(v);
       ++seen;
@@ -169,15 +192,16 @@ FrameTruthError frame_error(const TruthReference& truth, const align::FrameRecor
   }
   sums.observed_count += seen;
   frame.observed_fraction = static_cast<double>(seen) / static_cast<double>(std::max<long>(1, n));
-  for (long v = 0; v < n; ++v) sums.distances.push_back(static_cast<float>(std::sqrt(squared(v))));
+  for (long v = 0; v < squared.size(); ++v)
+    if (truth.evaluated(v)) sums.distances.push_back(static_cast<float>(std::sqrt(squared(v))));
   sums.total += squared.sum();
   sums.total_normal += along.squaredNorm();
   sums.count += n;
   auto& depth = sums.by_depth[record.depth];
   depth.first += squared.sum();
   depth.second += n;
-  for (long v = 0; v < n; ++v) {
-    if (truth.regions()(v) < 0) continue;
+  for (long v = 0; v < squared.size(); ++v) {
+    if (truth.regions()(v) < 0 || !truth.evaluated(v)) continue;
     auto& region = sums.by_region[truth.regions()(v)];
     region.first += squared(v);
     ++region.second;
@@ -187,6 +211,17 @@ FrameTruthError frame_error(const TruthReference& truth, const align::FrameRecor
     ++down.second;
   }
   return frame;
+}
+
+/// The faces of F on vertices below n (the reconstruction's part of a closed template).
+Eigen::MatrixXi faces_within(const Eigen::MatrixXi& F, long n) {
+  std::vector<long> kept;
+  for (long f = 0; f < F.rows(); ++f)
+    if (F.row(f).maxCoeff() < n) kept.push_back(f);
+  if (static_cast<long>(kept.size()) == F.rows()) return F;
+  Eigen::MatrixXi within(static_cast<long>(kept.size()), 3);
+  for (std::size_t k = 0; k < kept.size(); ++k) within.row(static_cast<long>(k)) = F.row(kept[k]);
+  return within;
 }
 
 /// The overall figures from the sums.
@@ -209,7 +244,7 @@ void summarise(const TruthReference& truth, ErrorSums& sums, TruthEvaluation& ev
     evaluation.rms_by_depth[depth] = std::sqrt(sum.first / static_cast<double>(sum.second));
   std::map<int, long> region_vertices, region_down_vertices;
   for (long v = 0; v < truth.regions().size(); ++v) {
-    if (truth.regions()(v) < 0) continue;
+    if (truth.regions()(v) < 0 || !truth.evaluated(v)) continue;
     ++region_vertices[truth.regions()(v)];
     if (truth.downward()[static_cast<std::size_t>(v)]) ++region_down_vertices[truth.regions()(v)];
   }
@@ -233,12 +268,13 @@ void summarise(const TruthReference& truth, ErrorSums& sums, TruthEvaluation& ev
 TruthEvaluation evaluate_against_truth(const TruthReference& truth, const align::Registration& registration) {
   TruthEvaluation evaluation;
   evaluation.height = truth.height();
+  evaluation.evaluated_fraction = truth.evaluated_fraction();
   evaluation.frames.resize(registration.frames.size());
   ErrorSums sums;
+  const Eigen::MatrixXi F = faces_within(registration.database.template_mesh.F, truth.vertex_count());
   for (std::size_t node = 0; node < registration.frames.size(); ++node) {
     auto& frame = evaluation.frames[node];
-    frame = frame_error(truth, registration.frames[node], registration.world_positions[node],
-                        registration.database.template_mesh.F, sums);
+    frame = frame_error(truth, registration.frames[node], registration.world_positions[node], F, sums);
     if (frame.rms > evaluation.worst_frame_rms) {
       evaluation.worst_frame_rms = frame.rms;
       evaluation.worst_node = static_cast<long>(node);
@@ -249,7 +285,8 @@ TruthEvaluation evaluate_against_truth(const TruthReference& truth, const align:
 }
 
 TruthEvaluation evaluate_against_truth(const core::Capture& capture, const align::Registration& registration) {
-  return evaluate_against_truth(TruthReference(capture, registration.database), registration);
+  return evaluate_against_truth(
+      TruthReference(capture, registration.database, registration.template_observed_vertices), registration);
 }
 
 core::Json TruthEvaluation::to_json(const align::Registration& registration) const {
@@ -264,6 +301,7 @@ core::Json TruthEvaluation::to_json(const align::Registration& registration) con
   };
   const auto& worst = registration.frames[static_cast<std::size_t>(worst_node)];
   return {{"height_m", height},
+          {"evaluated_fraction", evaluated_fraction},
           {"rms_m", rms},
           {"rms_percent_height", rms * percent},
           {"normal_rms_m", normal_rms},

@@ -2,7 +2,11 @@
 // Alignment error against a synthetic capture's ground truth (docs/synth.md). The template is the
 // root frame's reconstruction, so each template vertex v has a true location on the true surface:
 // the root reconstruction's correspondence (true face + barycentric). In every frame f the aligned
-// v should lie at Σ_k b_vk · X_f[F[face_v, k]], X_f the true world positions of frame f.
+// v should lie at Σ_k b_vk · X_f[F[face_v, k]], X_f the true world positions of frame f. The
+// vertices that close the holes of an open root reconstruction (align/template_closing.hpp) have no
+// correspondence: the error is over the reconstruction's vertices, and of those over the ones on
+// the true surface (with the studio models' correspondence status: not phantom volume, outliers or
+// blobs, whose truth is only the nearest true point).
 
 #include <Eigen/Core>
 #include <filesystem>
@@ -22,8 +26,16 @@ namespace surfcap::evaluation {
 class TruthReference {
  public:
   /// Reads <capture>/ground_truth/truth.json, the true database and the root's correspondence;
-  /// bad_input if they are incomplete.
-  TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned);
+  /// bad_input if they are incomplete. The first `observed_vertices` template vertices are the
+  /// root reconstruction's (< 0: all of them).
+  TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned, long observed_vertices = -1);
+  /// Template vertices with a true location (the root reconstruction's, first in the template).
+  long vertex_count() const { return barycentric_.rows(); }
+  /// Is template vertex v evaluated: on the true surface (status on_surface or rough; every
+  /// vertex without a status file)?
+  bool evaluated(long v) const { return evaluated_[static_cast<std::size_t>(v)] != 0; }
+  /// Share of the template's vertices evaluated (of all its vertices, closing surface included).
+  double evaluated_fraction() const { return evaluated_fraction_; }
   /// n×3 world positions of the template vertices in `sequence`:`frame` (frame number).
   Eigen::MatrixXd positions(const std::string& sequence, int frame) const;
   /// Per template vertex: is its true location seen by at least one of the capture's cameras in
@@ -51,6 +63,8 @@ class TruthReference {
   Eigen::MatrixXd barycentric_;
   Eigen::VectorXi regions_;
   std::vector<bool> downward_;
+  std::vector<char> evaluated_;
+  double evaluated_fraction_ = 1;
   std::vector<std::string> region_names_;
   double height_ = 0;
 };
@@ -66,6 +80,8 @@ struct FrameTruthError {
 
 struct TruthEvaluation {
   double height = 0;                    ///< character height: the true root frame's y extent (m)
+  /// Share of the template's vertices with a true location on the surface (TruthReference::evaluated).
+  double evaluated_fraction = 1;
   double rms = 0;                       ///< over all frames and vertices (m)
   double normal_rms = 0, tangential_rms = 0;
   double worst_frame_rms = 0;

@@ -64,7 +64,7 @@ void write_registration(const std::filesystem::path& out, const RegisterInputs& 
 void evaluate(const std::filesystem::path& out, const core::Capture& capture, const align::Registration& registration,
               const ReportOptions& options, core::StageReport& report) {
   auto timer = report.time("ground_truth_error");
-  const TruthReference truth(capture, registration.database);
+  const TruthReference truth(capture, registration.database, registration.template_observed_vertices);
   const TruthEvaluation evaluation = evaluate_against_truth(truth, registration);
   auto& figures = report.figures();
   figures["ground_truth"] = evaluation.to_json(registration);
@@ -108,9 +108,11 @@ void finish_stage(const std::filesystem::path& out, const RegisterInputs& inputs
     evaluate(out, inputs.capture, registration, options.report, report);
   if (options.report.preview_frames > 0) {
     auto timer = report.time("preview");
-    write_residual_preview(out / "report" / "alignment.png", inputs.capture, registration,
-                           preview_nodes(registration, options.report.preview_frames),
+    const std::vector<long> nodes = preview_nodes(registration, options.report.preview_frames);
+    write_residual_preview(out / "report" / "alignment.png", inputs.capture, registration, nodes,
                            options.report.preview_scale_mm / 1000);
+    if (has_unobserved(registration))
+      write_observation_preview(out / "report" / "observation.png", inputs.capture, registration, nodes);
   }
   figures["options"] = options.options_json;
   report.write(out / "report" / "alignment.json");

@@ -12,14 +12,15 @@ namespace surfcap::evaluation {
 void write_truth_arrays(const std::filesystem::path& folder, const TruthReference& truth,
                         const align::Registration& registration, const TruthEvaluation& evaluation) {
   const std::size_t nodes = registration.frames.size();
-  const auto n = static_cast<std::size_t>(registration.database.template_mesh.vertex_count());
+  const auto n = static_cast<std::size_t>(truth.vertex_count());
   std::vector<float> errors;
   errors.reserve(nodes * n * 3);
   std::vector<std::uint8_t> observed;
   observed.reserve(nodes * n);
   for (std::size_t node = 0; node < nodes; ++node) {
     const auto& record = registration.frames[node];
-    const Eigen::MatrixXd error = registration.world_positions[node] - truth.positions(record.sequence, record.frame);
+    const Eigen::MatrixXd expected = truth.positions(record.sequence, record.frame);
+    const Eigen::MatrixXd error = registration.world_positions[node].topRows(expected.rows()) - expected;
     for (std::size_t v = 0; v < n; ++v) {
       for (int k = 0; k < 3; ++k) errors.push_back(static_cast<float>(error(static_cast<Eigen::Index>(v), k)));
       observed.push_back(evaluation.frames[node].observed[v] ? 1 : 0);
@@ -46,10 +47,11 @@ void write_truth_preview(const std::filesystem::path& path, const TruthReference
   std::vector<Eigen::VectorXd> errors;
   for (const long node : nodes) {
     const auto& record = registration.frames[static_cast<std::size_t>(node)];
-    errors.push_back((registration.world_positions[static_cast<std::size_t>(node)] -
-                      truth.positions(record.sequence, record.frame))
-                         .rowwise()
-                         .norm());
+    const Eigen::MatrixXd expected = truth.positions(record.sequence, record.frame);
+    Eigen::VectorXd error = Eigen::VectorXd::Zero(registration.database.template_mesh.vertex_count());
+    error.head(expected.rows()) =
+        (registration.world_positions[static_cast<std::size_t>(node)].topRows(expected.rows()) - expected).rowwise().norm();
+    errors.push_back(error);
   }
   write_value_preview(path, registration, nodes, errors, scale, "from the true position");
 }

@@ -130,7 +130,7 @@ TEST(MeshRepair, LargeHolesStayOpenWhereOpenSurfacesAreAccepted) {
   core::Mesh mesh = without_faces_around(sphere, cut);
   core::Mesh strict = mesh;
   expect_bad_input([&] { core::repair_mesh(strict, {}, "walk/mesh/000012.ply", 12); },
-                   "the alignment needs closed surfaces");
+                   "too large to fill");
   core::RepairLimits open;
   open.keep_large_holes_open = true;
   const auto report = core::repair_mesh(mesh, open, "walk/mesh/000012.ply", 12);
