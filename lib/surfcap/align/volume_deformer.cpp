@@ -91,7 +91,7 @@ Eigen::MatrixXd VolumeDeformer::rotated_gradients(const Eigen::MatrixXd& positio
   for (long e = 0; e < element_weights_.size(); ++e) {
     const Eigen::Matrix3d A = rest_gradients_.block<3, 3>(3 * e, 0);
     const Eigen::Matrix3d B = gradients.block<3, 3>(3 * e, 0);
-    rotated.block<3, 3>(3 * e, 0) = A * geometry::polar_rotation(A.transpose() * B);
+    rotated.block<3, 3>(3 * e, 0) = A * geometry::best_rotation(A.transpose() * B);
   }
   return rotated;
 }

@@ -10,11 +10,6 @@ namespace surfcap::geometry {
 /// when a translation is fitted too): Kabsch, reflections excluded.
 Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& covariance);
 
-/// The same rotation by the scaled Newton iteration for the polar decomposition (Higham), a few
-/// 3×3 inverses instead of an SVD; falls back to best_rotation where the covariance is near
-/// singular or a reflection. Agrees with best_rotation to rounding (about 1e-15).
-Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& covariance);
-
 /// The rigid motion (4×4, no scaling) best taking the rows of `from` onto the rows of `to`
 /// (Umeyama).
 Eigen::Matrix4d best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to);
