@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <malloc.h>
 
+#include "surfcap/align/image_features.hpp"
 #include "surfcap/core/cli.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/option_table.hpp"
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
   // faults (zeroing fresh pages is most of the system time otherwise).
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  align::serial_image_processing();
   core::ToolApp app("surfcap-align", "surfcap-align: capture folder → aligned database (shape similarity tree, "
                                      "non-rigid alignment)");
   std::string capture, out;

@@ -42,11 +42,13 @@ render::Rendering visibility(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
   return render::render_mesh(mesh, camera, options);
 }
 
-cv::Mat to_mat(const GreyImage& image) {
-  cv::Mat mat(image.height, image.width, CV_8U);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      mat.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::clamp(std::lround(255.0 * image.at(x, y)), 0L, 255L));
+/// The pixels of `image` in `box` as 8-bit grey.
+cv::Mat to_mat(const GreyImage& image, const cv::Rect& box) {
+  cv::Mat mat(box.height, box.width, CV_8U);
+  for (int y = 0; y < box.height; ++y)
+    for (int x = 0; x < box.width; ++x)
+      mat.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(
+          std::clamp(std::lround(255.0 * image.at(box.x + x, box.y + y)), 0L, 255L));
   return mat;
 }
 
@@ -303,7 +305,7 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
     const auto prediction = predict_camera(appearance, surface, F, normals, seen, camera, c, actual, options);
     if (!prediction) continue;
     const cv::Rect box = flow_box(seen, camera.width, camera.height, options.margin_px);
-    const cv::Mat from = to_mat(prediction->image)(box).clone(), to = to_mat(actual)(box).clone();
+    const cv::Mat from = to_mat(prediction->image, box), to = to_mat(actual, box);
     cv::Mat forward, backward;
     dis->calc(from, to, forward);
     dis->calc(to, from, backward);

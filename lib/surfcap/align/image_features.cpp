@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -99,6 +100,8 @@ Neighbours two_nearest(const Descriptors& data, const Descriptors& queries) {
 }
 
 }  // namespace
+
+void serial_image_processing() { cv::setNumThreads(1); }
 
 FrameFeatures detect_frame_features(const core::Capture& capture, int sequence, int frame,
                                     const geometry::SurfaceQuery& reconstruction, const FeatureOptions& options) {

@@ -53,6 +53,11 @@ struct FrameFeatures {
   long size() const { return points.rows(); }
 };
 
+/// OpenCV's image processing (SIFT, optical flow) on the calling thread only: the alignment runs
+/// its edges in parallel already, and OpenCV's nested worker pool costs CPU time (hand-offs,
+/// waiting) without shortening the run. The results are the same either way.
+void serial_image_processing();
+
 /// SIFT on every camera image of `sequence`:`frame` (frame number), back-projected onto
 /// `reconstruction`. Empty when the capture has no images for the sequence. bad_input names an
 /// unreadable image and its frame.
