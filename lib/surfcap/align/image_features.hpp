@@ -54,8 +54,8 @@ struct FrameFeatures {
 };
 
 /// OpenCV's image processing (SIFT, optical flow) on the calling thread only: the alignment runs
-/// its edges in parallel already, and OpenCV's nested worker pool costs CPU time (hand-offs,
-/// waiting) without shortening the run. The results are the same either way.
+/// its edges in parallel (`--threads`), so a job uses the cores it was given and no nested pool
+/// beside them. The results are the same either way.
 void serial_image_processing();
 
 /// SIFT on every camera image of `sequence`:`frame` (frame number), back-projected onto
