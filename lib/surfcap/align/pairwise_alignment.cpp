@@ -65,8 +65,11 @@ class PairwiseSchedule {
   void initialise() {
     const auto start = Clock::now();
     const Eigen::MatrixXd parent_surface = surface();
+    RigidColours colours;
+    if (patches_.smoothed_target_colors() != nullptr)
+      colours = {&model_.smoothed_colors(), patches_.smoothed_target_colors(), options_.patch_color.scale.value_or(0)};
     const RigidFit rigid = rigid_initialisation(parent_surface, core::vertex_normals(parent_surface, model_.mesh().F),
-                                                target_, model_, options_);
+                                                target_, model_, options_, colours);
     positions_ = transformed(positions_, rigid);
     const Eigen::Vector3d forward = rigid.rotation * Eigen::Vector3d::UnitZ();
     result_.heading_change = std::atan2(forward.x(), forward.z());

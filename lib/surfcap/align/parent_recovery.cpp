@@ -34,6 +34,21 @@ std::vector<long> candidate_parents(const Eigen::MatrixXd& costs, long child, lo
   return candidates;
 }
 
+namespace {
+
+/// `a` no worse than `b` by every check (mean residual, uncovered and stacked fractions) and better
+/// by one: evidence of a better alignment, where a lower failure score alone is not (one check
+/// traded against another).
+bool dominates(const PairwiseResult& a, const PairwiseResult& b) {
+  const bool no_worse = a.mean_residual <= b.mean_residual && a.uncovered_fraction <= b.uncovered_fraction &&
+                        a.stacked_fraction <= b.stacked_fraction;
+  const bool better = a.mean_residual < b.mean_residual || a.uncovered_fraction < b.uncovered_fraction ||
+                      a.stacked_fraction < b.stacked_fraction;
+  return no_worse && better;
+}
+
+}  // namespace
+
 void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
                    const AttemptFrom& attempt, const VerdictFrom& verdict) {
   for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
@@ -41,10 +56,12 @@ void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const
     std::optional<PairwiseResult> retry = attempt(from);
     if (!retry) continue;
     const Verdict v = verdict(*retry, from);
-    // One that did not fail replaces one that did, or one with a higher mean residual.
+    // One that did not fail replaces one that did, or one with a higher mean residual; one that
+    // failed replaces one that failed only when it fits no worse by every check.
     const bool usable = v != Verdict::failed;
     if (!kept.result ||
-        (usable && (kept.verdict == Verdict::failed || retry->mean_residual < kept.result->mean_residual))) {
+        (usable && (kept.verdict == Verdict::failed || retry->mean_residual < kept.result->mean_residual)) ||
+        (!usable && kept.verdict == Verdict::failed && dominates(*retry, *kept.result))) {
       kept.result = std::move(retry);
       kept.parent = from;
       kept.verdict = v;

@@ -75,6 +75,9 @@ class PatchTargets {
   PatchTargets(const PatchTargets&) = delete;
   PatchTargets& operator=(const PatchTargets&) = delete;
 
+  /// The reconstruction's smoothed vertex colours of the colour-aware fits; null without them.
+  const Eigen::MatrixXd* smoothed_target_colors() const { return colored_ ? &target_smoothed_colors_ : nullptr; }
+
   /// The ICP settings of patch level `level`: the gate halves per level down to the dense gate.
   IcpOptions icp(std::size_t level) const;
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "surfcap/geometry/best_rotation.hpp"
@@ -228,6 +229,25 @@ double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::Surf
   for (long i = 0; i < points.rows(); ++i) {
     const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
     sum += closest ? std::min(gate, closest->distance) : gate;
+  }
+  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
+}
+
+double clamped_mean_joint_distance(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors,
+                                   const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors,
+                                   double scale, double gate) {
+  double sum = 0;
+  for (long i = 0; i < points.rows(); ++i) {
+    const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
+    if (!closest) {
+      sum += gate;
+      continue;
+    }
+    Eigen::RowVector3d colour = Eigen::RowVector3d::Zero();
+    for (int k = 0; k < 3; ++k) colour += closest->barycentric[k] * target_colors.row(target.faces()(closest->face, k));
+    const double joint = std::sqrt(closest->distance * closest->distance +
+                                   scale * scale * (colour - colors.row(i)).squaredNorm());
+    sum += std::min(gate, joint);
   }
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
 }

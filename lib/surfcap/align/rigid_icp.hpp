@@ -80,6 +80,13 @@ Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit);
 /// Mean over `points` of the distance to the target, clamped at `gate` (unmatched points count as gate).
 double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate);
 
+/// The same in the joint position-colour space: per point (colour a row of `colors`, 0..1) the
+/// distance √(d² + scale²‖c − c'‖²) to its closest target point (colour c' interpolated from
+/// `target_colors`, per target vertex), clamped at `gate`.
+double clamped_mean_joint_distance(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors,
+                                   const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors,
+                                   double scale, double gate);
+
 /// The rigid motion best taking `from` onto `to` (rows paired, no scaling; geometry::best_rigid_motion).
 RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to);
 

@@ -6,6 +6,7 @@
 
 #include "deformable_shape.hpp"
 #include "surfcap/align/rigid_icp.hpp"
+#include "surfcap/align/rigid_initialisation.hpp"
 #include "surfcap/align/surface_patches.hpp"
 #include "surfcap/align/tree_alignment.hpp"
 
@@ -126,6 +127,46 @@ TEST(RigidIcp, ColourAwareMatchingUndoesASlideThatClosestPointsCannotSee) {
   const RigidFit again = fit_rigid(points, normals, colours, colored, options);
   EXPECT_EQ(again.translation, fit.translation);
   EXPECT_EQ(again.rotation, fit.rotation);
+}
+
+/// A UV sphere scaled to `axes`, red where z > 0 (its front) and blue behind, or the other way
+/// round when `turned` (the body turned half round about the vertical: its shape is the same).
+core::Mesh two_tone_ellipsoid(int rings, int segments, const Eigen::Vector3d& axes, bool turned) {
+  core::Mesh mesh = testing::unit_sphere(rings, segments);
+  mesh.V = mesh.V * axes.asDiagonal();
+  mesh.colors.resize(mesh.V.rows(), 3);
+  for (long v = 0; v < mesh.V.rows(); ++v)
+    mesh.colors.row(v) = (mesh.V(v, 2) > 0) != turned ? Eigen::RowVector3d(1, 0, 0) : Eigen::RowVector3d(0, 0, 1);
+  return mesh;
+}
+
+TEST(RigidInitialisation, ColoursTellTheHeadingWhereTheShapeLooksTheSameTurnedHalfRound) {
+  // A shape symmetric under a half turn about y; the child is another tessellation, squatter and
+  // wider (so the frames do not overlap at once and headings are searched), turned half round.
+  const core::Mesh parent = two_tone_ellipsoid(24, 48, {0.22, 0.9, 0.14}, false);
+  const core::Mesh child = two_tone_ellipsoid(29, 52, {0.4, 0.6, 0.08}, true);
+  const geometry::SurfaceQuery target(child.V, child.F);
+  const PairwiseOptions options;
+  const AlignmentTemplate model(parent, options);
+  const Eigen::MatrixXd normals = core::vertex_normals(parent.V, parent.F);
+  const double geometric_gate = 2 * options.coarse_distance_height * model.height();
+  ASSERT_GT(clamped_mean_distance(parent.V, target, geometric_gate), 1.5 * model.mean_edge())
+      << "the frames must not overlap at once";
+  const auto heading = [](const RigidFit& fit) {
+    const Eigen::Vector3d forward = fit.rotation * Eigen::Vector3d::UnitZ();
+    return std::atan2(forward.x(), forward.z());
+  };
+  // Geometry alone cannot tell: the first heading tried stays.
+  const RigidFit shape_only = rigid_initialisation(parent.V, normals, target, model, options);
+  EXPECT_LT(std::abs(heading(shape_only)), 0.2);
+  // In the joint position-colour space the half turn is clearly closer.
+  const RigidFit coloured =
+      rigid_initialisation(parent.V, normals, target, model, options, {&parent.colors, &child.colors, 1.0});
+  EXPECT_GT(std::abs(heading(coloured)), M_PI - 0.2);
+  EXPECT_LT(clamped_mean_joint_distance(transformed(parent.V, coloured), parent.colors, target, child.colors, 1.0,
+                                        geometric_gate),
+            0.5 * clamped_mean_joint_distance(transformed(parent.V, shape_only), parent.colors, target, child.colors,
+                                              1.0, geometric_gate));
 }
 
 TEST(PairwiseAlignment, SmoothedColoursAverageNeighboursAndKeepConstantsExact) {

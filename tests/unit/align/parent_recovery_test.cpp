@@ -59,5 +59,23 @@ TEST(ParentRecovery, RetriesKeepTheLowestResidualThatDidNotFailAndStopAtAPass) {
   EXPECT_EQ(kept.verdict, Verdict::pass);
 }
 
+TEST(ParentRecovery, WhenAllFailAnAlternativeReplacesTheTreeParentOnlyIfNoWorseByEveryCheck) {
+  const FailureOptions failure;
+  RecoveryOptions options;
+  options.retries = 3;
+  // The tree parent's attempt: folded onto itself (13 % stacked), 4.7 % uncovered.
+  KeptAttempt kept{result_with(0.0028, 0.047, 0.131), 1, Verdict::failed};
+  const auto attempt = [&](long from) -> std::optional<PairwiseResult> {
+    if (from == 3) return result_with(0.0027, 0.048, 0.01);   // trades uncovered for stacked: no evidence
+    if (from == 4) return result_with(0.0023, 0.002, 0.011);  // better by every check, still failing
+    return result_with(0.0022, 0.003, 0.009);                 // failing, but worse than 4 in uncovered
+  };
+  const auto judge = [&](const PairwiseResult& r, long) { return verdict(r, 0.0, failure); };
+  retry_parents(kept, {3, 4, 5}, options, attempt, judge);
+  EXPECT_EQ(kept.parent, 4);
+  EXPECT_EQ(kept.verdict, Verdict::failed);
+  EXPECT_DOUBLE_EQ(kept.result->stacked_fraction, 0.011);
+}
+
 }  // namespace
 }  // namespace surfcap::align
