@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# The alignment suite (docs/align.md "Measured figures"): makes each capture once, aligns it with
+# `surfcap-align run` and prints a table of RMS, worst frame and p99 vertex error (% of the
+# height) and register CPU time per capture. Run it before and after a change to the alignment and
+# compare the tables: a change that helps one capture and hurts another is not a gain.
+#
+# usage: scripts/align_suite.sh [--build DIR] [--out DIR] [--threads T] [CAPTURE...]
+#   CAPTURE: tiny demo studio_tiny studio_tiny_noimg studio_tiny_seed2 studio_tiny_seed3
+#            dance dance_art dance_art_fine dance_hull studio (default: all but studio)
+#   The captures are kept in OUT/captures (made when missing), the alignments in OUT/<capture>
+#   (made again every run). The dance captures need the dance data (SURFCAP_DANCE_DATA, default
+#   ../shared/data/dance); without it they are skipped with a message.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=$here/build
+out=${TMPDIR:-/tmp}/align_suite
+threads=2
+captures=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --build) build=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --threads) threads=$2; shift 2 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -*) echo "unknown option $1" >&2; exit 2 ;;
+    *) captures+=("$1"); shift ;;
+  esac
+done
+[ ${#captures[@]} -gt 0 ] || captures=(tiny demo studio_tiny studio_tiny_noimg studio_tiny_seed2 studio_tiny_seed3
+                                       dance dance_art dance_art_fine dance_hull)
+synth=$build/tools/surfcap-synth
+align=$build/tools/surfcap-align
+[ -x "$align" ] && [ -x "$synth" ] || { echo "no surfcap tools in $build/tools (build first)" >&2; exit 2; }
+data=${SURFCAP_DANCE_DATA:-$here/../shared/data/dance}
+for name in "${captures[@]}"; do
+  case $name in
+    tiny|demo|studio|studio_tiny|studio_tiny_noimg|studio_tiny_seed[0-9]*|dance|dance_art|dance_art_fine|dance_hull) ;;
+    *) echo "unknown capture $name (see --help)" >&2; exit 2 ;;
+  esac
+done
+mkdir -p "$out/captures"
+
+# make CAPTURE: its capture folder (echoed), made when missing.
+make_capture() {
+  local name=$1 dir=$out/captures/$1
+  case $name in
+    tiny|demo|studio) [ -f "$dir/capture.json" ] ||
+        "$synth" --preset "$name" --out "$dir" --threads "$threads" --log-level warn >&2 ;;
+    studio_tiny) [ -f "$dir/capture.json" ] ||
+        "$synth" --preset studio_tiny --out "$dir" --threads "$threads" --log-level warn >&2 ;;
+    studio_tiny_seed*) [ -f "$dir/capture.json" ] ||
+        "$synth" --preset studio_tiny --seed "${name#studio_tiny_seed}" --out "$dir" --threads "$threads" \
+          --log-level warn >&2 ;;
+    dance|dance_art|dance_art_fine|dance_hull)
+      local options=()
+      case $name in
+        dance_art) options=(--artefacts) ;;
+        dance_art_fine) options=(--artefacts --edge-scale 1.25) ;;
+        dance_hull) options=(--artefacts --visual-hull) ;;
+      esac
+      [ -f "$dir/capture/capture.json" ] ||
+        SURFCAP_DANCE_DATA=$data "$here/scripts/make_dance_capture.sh" --build "$build" --out "$dir" --no-align \
+          --threads "$threads" ${options[@]+"${options[@]}"} >&2
+      dir=$dir/capture ;;
+    *) echo "unknown capture $name" >&2; return 2 ;;
+  esac
+  echo "$dir"
+}
+
+table=$out/suite.md
+{
+  echo "| capture | RMS % | worst frame % | p99 % | unrecovered frames | register CPU s |"
+  echo "|---|---|---|---|---|---|"
+} > "$table"
+for name in "${captures[@]}"; do
+  if [[ $name == dance* ]] && [ ! -f "$data/positions.npy" ]; then
+    echo "$name: skipped (no dance data at $data; set SURFCAP_DANCE_DATA)" >&2
+    continue
+  fi
+  source_name=$name options=()
+  case $name in
+    studio_tiny_noimg) source_name=studio_tiny options=(--no-images) ;;
+    tiny|demo) options=(--root walk:0) ;;
+  esac
+  capture=$(make_capture "$source_name")
+  rm -rf "$out/$name"
+  echo "$name: surfcap-align run --capture $capture ${options[*]:-}" >&2
+  "$align" run --capture "$capture" --out "$out/$name" --threads "$threads" --log-level warn \
+    ${options[@]+"${options[@]}"} 2> "$out/$name.log" || { echo "$name: surfcap-align failed (see $out/$name.log)" >&2; exit 1; }
+  perl -MJSON::PP -e '
+    local $/; open(my $f, "<", $ARGV[0]) or die; my $r = decode_json(<$f>); my $g = $r->{ground_truth};
+    printf "| %s | %.4f | %s %.4f | %.4f | %d | %.0f |\n", $ARGV[1], $g->{rms_percent_height}, $g->{worst_frame},
+      $g->{worst_frame_rms_percent_height}, $g->{p99_vertex_error_percent_height},
+      $r->{summary}{frames_unrecovered}, $r->{cpu_s};
+  ' "$out/$name/report/alignment.json" "$name" >> "$table"
+done
+cat "$table"
