@@ -21,8 +21,8 @@ struct FrameRecord;
 /// Up to `retries` alternative parents for a failed child; of the attempts that did not fail the
 /// lowest mean residual is kept, and if all failed the tree parent's unless another fits no worse
 /// by every check and better by one (a lower failure score alone is no evidence of a better
-/// alignment: it may trade one check for another). Up to `entry_candidates` other sequences tried for an edge
-/// between sequences; the lowest mean residual of the passing attempts is kept.
+/// alignment: it may trade one check for another). Up to `entry_candidates` other sequences tried
+/// for an edge between sequences; the lowest mean residual of the passing attempts is kept.
 struct RecoveryOptions {
   int retries = 2;
   int entry_candidates = 2;
