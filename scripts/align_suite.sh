@@ -21,7 +21,7 @@ while [ $# -gt 0 ]; do
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     -*) echo "unknown option $1" >&2; exit 2 ;;
     *) captures+=("$1"); shift ;;
   esac
@@ -30,7 +30,10 @@ done
                                        dance dance_art dance_art_fine dance_hull)
 synth=$build/tools/surfcap-synth
 align=$build/tools/surfcap-align
-[ -x "$align" ] && [ -x "$synth" ] || { echo "no surfcap tools in $build/tools (build first)" >&2; exit 2; }
+if [ ! -x "$align" ] || [ ! -x "$synth" ]; then
+  echo "no surfcap tools in $build/tools (build first)" >&2
+  exit 2
+fi
 data=${SURFCAP_DANCE_DATA:-$here/../shared/data/dance}
 for name in "${captures[@]}"; do
   case $name in
@@ -83,7 +86,7 @@ for name in "${captures[@]}"; do
     tiny|demo) options=(--root walk:0) ;;
   esac
   capture=$(make_capture "$source_name")
-  rm -rf "$out/$name"
+  rm -rf "${out:?}/${name:?}"
   echo "$name: surfcap-align run --capture $capture ${options[*]:-}" >&2
   "$align" run --capture "$capture" --out "$out/$name" --threads "$threads" --log-level warn \
     ${options[@]+"${options[@]}"} 2> "$out/$name.log" || { echo "$name: surfcap-align failed (see $out/$name.log)" >&2; exit 1; }
