@@ -23,9 +23,7 @@ double colour_disagreement(const Eigen::MatrixXd& points, const Eigen::MatrixXd&
       sum += 1;
       continue;
     }
-    Eigen::RowVector3d colour = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) colour += closest->barycentric[k] * target_colors.row(target.faces()(closest->face, k));
-    sum += std::min(1.0, (colour - colors.row(i)).squaredNorm());
+    sum += std::min(1.0, (interpolated_colour(target, target_colors, *closest) - colors.row(i)).squaredNorm());
   }
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
 }

@@ -233,6 +233,13 @@ double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::Surf
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
 }
 
+Eigen::RowVector3d interpolated_colour(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& colors,
+                                      const geometry::SurfacePoint& point) {
+  Eigen::RowVector3d colour = Eigen::RowVector3d::Zero();
+  for (int k = 0; k < 3; ++k) colour += point.barycentric[k] * colors.row(target.faces()(point.face, k));
+  return colour;
+}
+
 double clamped_mean_joint_distance(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors,
                                    const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors,
                                    double scale, double gate) {
@@ -243,10 +250,8 @@ double clamped_mean_joint_distance(const Eigen::MatrixXd& points, const Eigen::M
       sum += gate;
       continue;
     }
-    Eigen::RowVector3d colour = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) colour += closest->barycentric[k] * target_colors.row(target.faces()(closest->face, k));
-    const double joint = std::sqrt(closest->distance * closest->distance +
-                                   scale * scale * (colour - colors.row(i)).squaredNorm());
+    const double colour = (interpolated_colour(target, target_colors, *closest) - colors.row(i)).squaredNorm();
+    const double joint = std::sqrt(closest->distance * closest->distance + scale * scale * colour);
     sum += std::min(gate, joint);
   }
   return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;

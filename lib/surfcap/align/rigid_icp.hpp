@@ -80,6 +80,10 @@ Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit);
 /// Mean over `points` of the distance to the target, clamped at `gate` (unmatched points count as gate).
 double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate);
 
+/// The colour at `point` of the target, interpolated from its per-vertex `colors`.
+Eigen::RowVector3d interpolated_colour(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& colors,
+                                      const geometry::SurfacePoint& point);
+
 /// The same in the joint position-colour space: per point (colour a row of `colors`, 0..1) the
 /// distance √(d² + scale²‖c − c'‖²) to its closest target point (colour c' interpolated from
 /// `target_colors`, per target vertex), clamped at `gate`.
