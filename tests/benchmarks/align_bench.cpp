@@ -12,6 +12,7 @@
 #include "surfcap/align/feature_constraints.hpp"
 #include "surfcap/align/image_features.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/core/report.hpp"
 
 namespace {
 
@@ -36,6 +37,7 @@ Eigen::MatrixXd part_colours(const Eigen::MatrixXd& rest) {
 /// `rings`×`segments` template tessellation; the target's has about 1.09 times the vertices.
 void pairwise_alignment(benchmark::State& state, bool colours, int rings, int segments) {
   omp_set_num_threads(1);
+  core::retain_freed_memory();  // as surfcap-align runs
   core::Mesh template_mesh = align::testing::ellipsoid(rings, segments);
   const core::Mesh target_rest = align::testing::ellipsoid(rings * 47 / 40, segments * 70 / 76);
   const Eigen::MatrixXd target_V = align::testing::deform_points(target_rest.V, 0.6, 0.5, {0.05, 0.02, -0.04});

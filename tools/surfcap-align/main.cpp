@@ -1,12 +1,12 @@
 // surfcap-align: capture folder → aligned database (docs/align.md). Each command is one library
 // stage (similarity/similarity_stages.hpp, evaluation/register_stage.hpp); `run` chains them.
 #include <cstdio>
-#include <malloc.h>
 
 #include "surfcap/align/image_features.hpp"
 #include "surfcap/core/cli.hpp"
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/option_table.hpp"
+#include "surfcap/core/report.hpp"
 #include "surfcap/evaluation/register_stage.hpp"
 #include "surfcap/similarity/similarity_stages.hpp"
 #include "import_command.hpp"
@@ -47,10 +47,8 @@ evaluation::RegisterJob register_job(bool trunk, const std::string& shard, int m
 
 int main(int argc, char** argv) {
   // The alignment allocates and frees image-sized buffers (renderings, flow fields, pyramids) many
-  // times per frame: kept in the heap instead of mapped and returned each time, they cost no page
-  // faults (zeroing fresh pages is most of the system time otherwise).
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  // times per frame.
+  core::retain_freed_memory();
   align::serial_image_processing();
   core::ToolApp app("surfcap-align", "surfcap-align: capture folder → aligned database (shape similarity tree, "
                                      "non-rigid alignment)");

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
@@ -30,16 +31,6 @@ Eigen::MatrixXd face_normals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F)
     N.row(f) = length > 0 ? Eigen::RowVector3d((n / length).transpose()) : Eigen::RowVector3d::Zero();
   }
   return N;
-}
-
-/// Visible face per pixel and its depth, for `V`,`F` seen by `camera`.
-render::Rendering visibility(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const render::Camera& camera) {
-  core::Mesh mesh;
-  mesh.V = V;
-  mesh.F = F;
-  render::RenderOptions options;
-  options.smooth_normals = false;
-  return render::render_mesh(mesh, camera, options);
 }
 
 /// The pixels of `image` in `box` as 8-bit grey.
@@ -129,7 +120,7 @@ TemplateAppearance::TemplateAppearance(const core::Mesh& root_surface, std::vect
       tolerance_(options.visibility_edges * mean_edge),
       min_facing_(options.min_facing) {
   if (images_.size() != cameras_.size()) throw core::internal_error("TemplateAppearance: one image per camera");
-  for (const auto& camera : cameras_) depth_.push_back(visibility(V_, F_, camera).depth);
+  for (const auto& camera : cameras_) depth_.push_back(render::render_visibility(V_, F_, camera).depth);
   long seen = 0;
   for (long f = 0; f < F_.rows(); ++f)
     if (value(f, Eigen::Vector3d::Constant(1.0 / 3.0))) ++seen;
@@ -184,7 +175,7 @@ struct CameraPrediction {
 
 std::optional<CameraPrediction> predict_camera(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
                                                const Eigen::MatrixXi& F, const Eigen::MatrixXd& normals,
-                                               const render::Rendering& seen, const render::Camera& camera,
+                                               const render::Visibility& seen, const render::Camera& camera,
                                                std::size_t c, const GreyImage& actual, const FlowOptions& options) {
   const int w = camera.width, h = camera.height;
   // Elsewhere the child's background (median of its border pixels); template points no root
@@ -230,7 +221,7 @@ std::optional<CameraPrediction> predict_camera(const TemplateAppearance& appeara
 
 /// The template's bounding box in the rendering plus `margin` pixels, within the image: flow only
 /// there (the actor covers a small part of a studio image).
-cv::Rect flow_box(const render::Rendering& seen, int w, int h, int margin) {
+cv::Rect flow_box(const render::Visibility& seen, int w, int h, int margin) {
   int x0 = w, y0 = h, x1 = -1, y1 = -1;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
@@ -242,10 +233,53 @@ cv::Rect flow_box(const render::Rendering& seen, int w, int h, int margin) {
   return cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
 }
 
+/// The first hit of the ray centre + s·ray (s > 0, `ray` unit), cast through the point (qx, qy)
+/// of the image in which `child_seen` is the child's reconstruction: the nearest hit among the
+/// faces seen at the four pixel centres around the point, or the tree's ray cast where the ray
+/// passes through none of them (a silhouette, faces smaller than a pixel).
+std::optional<geometry::SurfacePoint> first_hit_near(const render::Visibility& child_seen, int w, int h,
+                                                     const geometry::SurfaceQuery& child,
+                                                     const Eigen::Vector3d& centre, const Eigen::Vector3d& ray,
+                                                     double qx, double qy) {
+  const int x0 = static_cast<int>(std::floor(qx)), y0 = static_cast<int>(std::floor(qy));
+  std::array<int, 4> faces{-1, -1, -1, -1};
+  int count = 0;
+  for (int dy = 0; dy <= 1; ++dy)
+    for (int dx = 0; dx <= 1; ++dx) {
+      const int x = x0 + dx, y = y0 + dy;
+      if (x < 0 || y < 0 || x >= w || y >= h) continue;
+      const int f = child_seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+      if (f >= 0 && std::find(faces.begin(), faces.begin() + count, f) == faces.begin() + count) faces[count++] = f;
+    }
+  std::optional<geometry::SurfacePoint> best;
+  const Eigen::MatrixXd& V = child.vertices();
+  const Eigen::MatrixXi& F = child.faces();
+  for (int k = 0; k < count; ++k) {
+    // Möller–Trumbore.
+    const int f = faces[static_cast<std::size_t>(k)];
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::Vector3d e1 = b - a, e2 = c - a, p = ray.cross(e2);
+    const double determinant = e1.dot(p);
+    if (std::abs(determinant) < 1e-300) continue;
+    const Eigen::Vector3d from_a = centre - a;
+    const double u = from_a.dot(p) / determinant;
+    if (u < 0 || u > 1) continue;
+    const Eigen::Vector3d q = from_a.cross(e1);
+    const double v = ray.dot(q) / determinant;
+    if (v < 0 || u + v > 1) continue;
+    const double s = e2.dot(q) / determinant;
+    if (!(s > 0) || (best && s >= best->distance)) continue;
+    best = geometry::SurfacePoint{f, centre + s * ray, Eigen::Vector3d(1 - u - v, u, v), s};
+  }
+  if (best) return best;
+  return child.first_hit(centre, ray);
+}
+
 /// Per template vertex, the offsets (and barycentric weights) of the forward-backward consistent
 /// flow pixels of one camera: the moved pixel's ray hits the child's reconstruction there.
-void collect_offsets(const CameraPrediction& prediction, const render::Rendering& seen, const render::Camera& camera,
-                     const cv::Rect& box, const cv::Mat& forward, const cv::Mat& backward,
+void collect_offsets(const CameraPrediction& prediction, const render::Visibility& seen,
+                     const render::Visibility& child_seen, const render::Camera& camera, const cv::Rect& box,
+                     const cv::Mat& forward, const cv::Mat& backward,
                      const Eigen::MatrixXd& surface, const Eigen::MatrixXi& F, const Eigen::MatrixXd& normals,
                      const geometry::SurfaceQuery& child, double max_offset, const FlowOptions& options,
                      std::vector<std::vector<std::pair<Eigen::Vector3d, double>>>& offsets, long& pixels) {
@@ -266,7 +300,7 @@ void collect_offsets(const CameraPrediction& prediction, const render::Rendering
       const double ex = flow.x + back.x, ey = flow.y + back.y;
       if (ex * ex + ey * ey > tolerance2) continue;
       const Eigen::Vector3d ray = pixel_ray(camera, qx, qy);
-      const auto target = child.first_hit(centre, ray);
+      const auto target = first_hit_near(child_seen, w, camera.height, child, centre, ray, qx, qy);
       if (!target) continue;
       const Eigen::Vector3d target_normal = child.face_normal(target->face);
       if (-target_normal.dot(ray) < options.min_facing) continue;
@@ -296,20 +330,26 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
   if (child_images.size() != cameras.size()) return result;
   const Eigen::MatrixXd normals = face_normals(surface, F);
   std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> offsets(static_cast<std::size_t>(n));
+  // DIS's medium preset at full resolution or, where the template spans at least
+  // kHalfResolutionSpanPx pixels in the image, at half resolution refined variationally to full
+  // (a tenth of the cost): its patches then still cover small parts of the body.
+  constexpr int kHalfResolutionSpanPx = 200;
   const cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-  dis->setFinestScale(0);
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     const render::Camera& camera = cameras[c];
     const GreyImage& actual = child_images[c];
-    const render::Rendering seen = visibility(surface, F, camera);
+    const render::Visibility seen = render::render_visibility(surface, F, camera);
     const auto prediction = predict_camera(appearance, surface, F, normals, seen, camera, c, actual, options);
     if (!prediction) continue;
     const cv::Rect box = flow_box(seen, camera.width, camera.height, options.margin_px);
     const cv::Mat from = to_mat(prediction->image, box), to = to_mat(actual, box);
+    const int span = std::max(box.width, box.height) - 2 * options.margin_px;
+    dis->setFinestScale(span >= kHalfResolutionSpanPx ? 1 : 0);
     cv::Mat forward, backward;
     dis->calc(from, to, forward);
     dis->calc(to, from, backward);
-    collect_offsets(*prediction, seen, camera, box, forward, backward, surface, F, normals, child,
+    const render::Visibility child_seen = render::render_visibility(child.vertices(), child.faces(), camera);
+    collect_offsets(*prediction, seen, child_seen, camera, box, forward, backward, surface, F, normals, child,
                     options.max_offset_edges * mean_edge, options, offsets, result.pixels);
   }
   for (long v = 0; v < n; ++v) {

@@ -1,9 +1,8 @@
 #include "surfcap/align/image_features.hpp"
 
-#include <flann/flann.hpp>
-
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
@@ -65,38 +64,56 @@ void detect_strongest(cv::SIFT& sift, const cv::Mat& image, int limit, std::vect
 
 using Descriptors = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-/// For every row of `queries`: the nearest and second-nearest rows of `data` (exact search,
-/// squared L2), as (index, distance²) pairs. FLANN's linear index: exact and deterministic (its
-/// randomised trees draw from std::rand, shared between threads), and fast enough for a few
-/// thousand descriptors.
+/// The nearest and second-nearest rows of the other set, as (index, distance²) pairs, for every
+/// row of either set. An exact search over every pair, each distance computed once for both
+/// directions; distances are summed in FLANN's order (four components at a time) and ties kept as
+/// FLANN's linear search keeps them (the earlier row first).
 struct Neighbours {
   std::vector<std::array<int, 2>> index;
   std::vector<std::array<float, 2>> distance;
+
+  explicit Neighbours(std::size_t count)
+      : index(count, {-1, -1}), distance(count, {std::numeric_limits<float>::max(), std::numeric_limits<float>::max()}) {}
+
+  void add(std::size_t row, float squared, int other) {
+    auto& d = distance[row];
+    auto& i = index[row];
+    if (squared >= d[1]) return;
+    if (i[0] < 0) {
+      d[0] = squared, i[0] = other;
+    } else if (d[0] > squared) {
+      d[1] = d[0], i[1] = i[0];
+      d[0] = squared, i[0] = other;
+    } else {
+      d[1] = squared, i[1] = other;
+    }
+  }
 };
 
-Neighbours two_nearest(const Descriptors& data, const Descriptors& queries) {
-  Neighbours result;
-  const auto q = static_cast<std::size_t>(queries.rows());
-  result.index.assign(q, {-1, -1});
-  result.distance.assign(q, {0.f, 0.f});
-  if (data.rows() < 2 || q == 0) return result;
-  const flann::Matrix<float> dataset(const_cast<float*>(data.data()), static_cast<std::size_t>(data.rows()),
-                                     static_cast<std::size_t>(data.cols()));
-  flann::Index<flann::L2<float>> index(dataset, flann::LinearIndexParams());
-  index.buildIndex();
-  const flann::Matrix<float> query(const_cast<float*>(queries.data()), q, static_cast<std::size_t>(queries.cols()));
-  std::vector<int> indices(2 * q);
-  std::vector<float> distances(2 * q);
-  flann::Matrix<int> index_matrix(indices.data(), q, 2);
-  flann::Matrix<float> distance_matrix(distances.data(), q, 2);
-  flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-  params.cores = 1;  // callers parallelise over frames
-  index.knnSearch(query, index_matrix, distance_matrix, 2, params);
-  for (std::size_t i = 0; i < q; ++i) {
-    result.index[i] = {indices[2 * i], indices[2 * i + 1]};
-    result.distance[i] = {distances[2 * i], distances[2 * i + 1]};
+float squared_distance(const float* a, const float* b, long size) {
+  float result = 0;
+  long k = 0;
+  for (; k + 3 < size; k += 4) {
+    const float d0 = a[k] - b[k], d1 = a[k + 1] - b[k + 1], d2 = a[k + 2] - b[k + 2], d3 = a[k + 3] - b[k + 3];
+    result += d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3;
+  }
+  for (; k < size; ++k) {
+    const float d0 = a[k] - b[k];
+    result += d0 * d0;
   }
   return result;
+}
+
+/// forward: for every parent row its two nearest child rows; backward: the reverse.
+void two_nearest_both_ways(const Descriptors& parent, const Descriptors& child, Neighbours& forward,
+                           Neighbours& backward) {
+  const long columns = parent.cols();
+  for (long p = 0; p < parent.rows(); ++p)
+    for (long c = 0; c < child.rows(); ++c) {
+      const float squared = squared_distance(child.row(c).data(), parent.row(p).data(), columns);
+      forward.add(static_cast<std::size_t>(p), squared, static_cast<int>(c));
+      backward.add(static_cast<std::size_t>(c), squared, static_cast<int>(p));
+    }
 }
 
 }  // namespace
@@ -163,8 +180,8 @@ std::vector<FeatureMatch> match_features(const FrameFeatures& parent, const Fram
                                          const FeatureOptions& options) {
   std::vector<FeatureMatch> candidates;
   if (parent.size() < 2 || child.size() < 2) return candidates;
-  const Neighbours forward = two_nearest(child.descriptors, parent.descriptors);
-  const Neighbours backward = two_nearest(parent.descriptors, child.descriptors);
+  Neighbours forward(static_cast<std::size_t>(parent.size())), backward(static_cast<std::size_t>(child.size()));
+  two_nearest_both_ways(parent.descriptors, child.descriptors, forward, backward);
   const float ratio2 = static_cast<float>(options.ratio * options.ratio);
   const double max_displacement = options.max_displacement_height * height;
   for (long p = 0; p < parent.size(); ++p) {

@@ -16,32 +16,6 @@ struct ColoredTarget::Index {
   std::unique_ptr<flann::Index<flann::L2_Simple<float>>> tree;
 };
 
-namespace {
-
-/// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, §5.1.5).
-Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                    const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denominator = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denominator) + ac * (vc * denominator);
-}
-
-}  // namespace
-
 ColoredTarget::ColoredTarget(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors,
                              double scale)
     : V_(V), F_(F), face_normals_(F.rows(), 3), scale_(scale), index_(std::make_unique<Index>()) {
@@ -97,7 +71,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> ColoredTarget::closest_around(int ve
   double best_distance = std::numeric_limits<double>::infinity();
   for (int r = ring_start_[static_cast<std::size_t>(vertex)]; r < ring_start_[static_cast<std::size_t>(vertex) + 1]; ++r) {
     const int f = ring_faces_[static_cast<std::size_t>(r)];
-    const Eigen::Vector3d q = closest_on_triangle(p, V_.row(F_(f, 0)).transpose(), V_.row(F_(f, 1)).transpose(),
+    const Eigen::Vector3d q = geometry::closest_point_on_triangle(p, V_.row(F_(f, 0)).transpose(), V_.row(F_(f, 1)).transpose(),
                                                   V_.row(F_(f, 2)).transpose());
     const double distance = (q - p).squaredNorm();
     if (distance < best_distance) {

@@ -1,5 +1,6 @@
 #include "surfcap/core/report.hpp"
 
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include "surfcap/core/version.hpp"
@@ -10,6 +11,11 @@ double peak_rss_mb() {
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+void retain_freed_memory() {
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
 }
 
 double process_cpu_seconds() {

@@ -13,6 +13,11 @@ namespace surfcap::core {
 double peak_rss_mb();
 /// CPU time of this process so far (user + system, every thread), seconds.
 double process_cpu_seconds();
+/// Keeps freed large buffers in this process's heap instead of unmapping them (glibc's mmap and
+/// trim thresholds raised): a stage that allocates and frees image- or mesh-sized buffers many
+/// times per frame pays no page faults for them (zeroing fresh pages is otherwise most of its
+/// system time). Peak memory is unchanged; freed memory is reused, not returned early.
+void retain_freed_memory();
 
 /// {"format":"surfcap.report/1","stage","version","timings_s":{...},"total_s","cpu_s","peak_rss_mb",
 ///  ...figures}; cpu_s and peak_rss_mb are the process's up to the moment the report is written.

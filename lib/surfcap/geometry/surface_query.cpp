@@ -20,12 +20,50 @@ using Triangle = Kernel::Triangle_3;
 using Ray = Kernel::Ray_3;
 using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point to_point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
+/// CGAL's AABB traits with the closest point of a triangle by Voronoi regions
+/// (closest_point_on_triangle) instead of the kernel's projection onto the supporting plane and
+/// its edges: the same point to rounding, at a fraction of the cost.
+struct Traits : CGAL::AABB_traits<Kernel, Primitive> {
+  class Closest_point {
+   public:
+    Point operator()(const Point& p, const Primitive& primitive, const Point& bound) const {
+      const Triangle& triangle = *primitive.id();
+      const Eigen::Vector3d query = to_eigen(p);
+      const Eigen::Vector3d closest =
+          closest_point_on_triangle(query, to_eigen(triangle[0]), to_eigen(triangle[1]), to_eigen(triangle[2]));
+      return (closest - query).squaredNorm() > CGAL::squared_distance(p, bound) ? bound : to_point(closest);
+    }
+  };
+  Closest_point closest_point_object() const { return {}; }
+};
+using Tree = CGAL::AABB_tree<Traits>;
+
 }  // namespace
+
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denominator = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
 
 struct SurfaceQuery::Impl {
   std::vector<Triangle> triangles;

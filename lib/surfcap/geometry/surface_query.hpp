@@ -51,6 +51,10 @@ class SurfaceQuery {
   Eigen::MatrixXd face_normals_;
 };
 
+/// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, §5.1.5).
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
+
 /// Barycentric coordinates of p's projection onto triangle (a, b, c) (summing to 1).
 Eigen::Vector3d barycentric_coordinates(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                         const Eigen::Vector3d& c);

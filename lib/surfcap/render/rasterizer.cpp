@@ -22,7 +22,7 @@ struct Buffers {
   int width, height;
   std::vector<float>& depth;
   std::vector<int>& face;
-  std::vector<Eigen::Vector3f>& barycentric;
+  std::vector<Eigen::Vector3f>* barycentric;  ///< null: not wanted
 };
 
 void rasterize_face(long f, const ScreenVertex (&s)[3], Buffers& buffers) {
@@ -45,13 +45,44 @@ void rasterize_face(long f, const ScreenVertex (&s)[3], Buffers& buffers) {
       if (depth >= buffers.depth[pixel]) continue;
       buffers.depth[pixel] = static_cast<float>(depth);
       buffers.face[pixel] = static_cast<int>(f);
+      if (buffers.barycentric == nullptr) continue;
       const Eigen::Vector3d b = Eigen::Vector3d(l0 * s[0].inverse_depth, l1 * s[1].inverse_depth,
                                                 l2 * s[2].inverse_depth) * depth;
-      buffers.barycentric[pixel] = b.cast<float>();
+      (*buffers.barycentric)[pixel] = b.cast<float>();
     }
 }
 
+/// Rasterises the faces of (V, F) seen by `camera` into `buffers` (depth +inf, face −1 to start).
+void rasterize(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Camera& camera, double near,
+               Buffers& buffers) {
+  const long n = V.rows();
+  std::vector<ScreenVertex> screen(static_cast<std::size_t>(n));
+  std::vector<bool> in_front(static_cast<std::size_t>(n));
+  for (long v = 0; v < n; ++v) {
+    const Eigen::Vector3d c = camera.to_camera(V.row(v).transpose());
+    const Eigen::Vector3d p = camera.K * c;
+    in_front[v] = c.z() > near;
+    screen[v] = {p.x() / p.z(), p.y() / p.z(), 1.0 / c.z()};
+  }
+  for (long f = 0; f < F.rows(); ++f) {
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    if (!in_front[a] || !in_front[b] || !in_front[c]) continue;
+    const ScreenVertex s[3] = {screen[a], screen[b], screen[c]};
+    rasterize_face(f, s, buffers);
+  }
+}
+
 }  // namespace
+
+Visibility render_visibility(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Camera& camera, double near) {
+  Visibility result;
+  const std::size_t pixels = static_cast<std::size_t>(camera.width) * static_cast<std::size_t>(camera.height);
+  result.depth.assign(pixels, std::numeric_limits<float>::infinity());
+  result.face.assign(pixels, -1);
+  Buffers buffers{camera.width, camera.height, result.depth, result.face, nullptr};
+  rasterize(V, F, camera, near, buffers);
+  return result;
+}
 
 Eigen::Vector3d Rendering::shade(const Eigen::Vector3d& albedo, const Eigen::Vector3d& normal,
                                  const Camera& camera) const {
@@ -72,23 +103,8 @@ Rendering render_mesh(const core::Mesh& mesh, const Camera& camera, const Render
   result.depth.assign(pixels, std::numeric_limits<float>::infinity());
   result.face.assign(pixels, -1);
   std::vector<Eigen::Vector3f> barycentric(pixels);
-
-  const long n = mesh.vertex_count();
-  std::vector<ScreenVertex> screen(static_cast<std::size_t>(n));
-  std::vector<bool> in_front(static_cast<std::size_t>(n));
-  for (long v = 0; v < n; ++v) {
-    const Eigen::Vector3d c = camera.to_camera(mesh.V.row(v).transpose());
-    const Eigen::Vector3d p = camera.K * c;
-    in_front[v] = c.z() > near;
-    screen[v] = {p.x() / p.z(), p.y() / p.z(), 1.0 / c.z()};
-  }
-  Buffers buffers{width, height, result.depth, result.face, barycentric};
-  for (long f = 0; f < mesh.face_count(); ++f) {
-    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
-    if (!in_front[a] || !in_front[b] || !in_front[c]) continue;
-    const ScreenVertex s[3] = {screen[a], screen[b], screen[c]};
-    rasterize_face(f, s, buffers);
-  }
+  Buffers buffers{width, height, result.depth, result.face, &barycentric};
+  rasterize(mesh.V, mesh.F, camera, near, buffers);
 
   Eigen::MatrixXd normals;
   if (options.smooth_normals) normals = core::vertex_normals(mesh.V, mesh.F);

@@ -38,6 +38,17 @@ struct Rendering {
   RenderOptions options;
 };
 
+/// What a camera sees of a surface, without shading: buffers are width×height, row-major.
+struct Visibility {
+  std::vector<float> depth;  ///< camera z (metres) of the visible surface, +inf where none
+  std::vector<int> face;     ///< visible face index, −1 where none
+};
+
+/// The visible face and depth per pixel of (V, F) seen by `camera` (pixel centres at integer
+/// coordinates); faces with a vertex behind the near plane are skipped. render_mesh's buffers.
+Visibility render_visibility(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Camera& camera,
+                             double near = 0.05);
+
 /// Renders `mesh` as seen by `camera` (its width × height). Faces behind the near plane
 /// (z < near) are skipped; both sides of a face are lit (the normal facing the camera is used).
 Rendering render_mesh(const core::Mesh& mesh, const Camera& camera, const RenderOptions& options = {},

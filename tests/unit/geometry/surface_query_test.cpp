@@ -62,6 +62,19 @@ TEST(SurfaceQuery, BoundedSearchIsClosestPointWithinTheBoundAndNothingBeyond) {
   EXPECT_GT(beyond, 100);
 }
 
+TEST(SurfaceQuery, ClosestPointOnATriangleInEveryVoronoiRegion) {
+  const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 1, 0);
+  const auto closest = [&](const Eigen::Vector3d& p) { return closest_point_on_triangle(p, a, b, c); };
+  EXPECT_LT((closest({0.5, 0.25, 3}) - Eigen::Vector3d(0.5, 0.25, 0)).norm(), 1e-15);  // face
+  EXPECT_LT((closest({-1, -1, 1}) - a).norm(), 1e-15);                                 // vertices
+  EXPECT_LT((closest({3, -0.5, 0}) - b).norm(), 1e-15);
+  EXPECT_LT((closest({-0.5, 2, 0}) - c).norm(), 1e-15);
+  EXPECT_LT((closest({1, -2, 1}) - Eigen::Vector3d(1, 0, 0)).norm(), 1e-15);  // edges
+  EXPECT_LT((closest({-2, 0.5, 0}) - Eigen::Vector3d(0, 0.5, 0)).norm(), 1e-15);
+  // Edge b–c: the foot of the perpendicular from (1.5, 1, 0) is (1.2, 0.4, 0).
+  EXPECT_LT((closest({1.5, 1, 0}) - Eigen::Vector3d(1.2, 0.4, 0)).norm(), 1e-12);
+}
+
 TEST(SurfaceQuery, RayHitsTheNearSideAndMissesWhenPointingAway) {
   const core::Mesh sphere = testing::make_sphere(24, 48, 1.0);
   const SurfaceQuery query(sphere.V, sphere.F);

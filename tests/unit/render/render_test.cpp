@@ -117,6 +117,26 @@ TEST(Rasterizer, NearerSurfaceWinsAndLambertDarkensGrazingLight) {
   EXPECT_LT(rendering.image.get(limb_x, 60).x(), 0.6 * centre);
 }
 
+TEST(Rasterizer, VisibilityIsTheRenderingsDepthAndFaceBuffers) {
+  core::Mesh near = testing::make_sphere(16, 32, 0.3);
+  near.V.col(2).array() += 0.5;
+  const core::Mesh far = testing::make_sphere(16, 32, 0.6);
+  core::Mesh both = far;
+  both.V.conservativeResize(far.V.rows() + near.V.rows(), 3);
+  both.V.bottomRows(near.V.rows()) = near.V;
+  both.F.conservativeResize(far.F.rows() + near.F.rows(), 3);
+  both.F.bottomRows(near.F.rows()) = near.F.array() + static_cast<int>(far.V.rows());
+  const render::Camera camera = front_camera(120, 90);
+  const render::Rendering rendering = render::render_mesh(both, camera);
+  const render::Visibility visibility = render::render_visibility(both.V, both.F, camera);
+  ASSERT_EQ(visibility.face.size(), rendering.face.size());
+  EXPECT_EQ(visibility.face, rendering.face);
+  EXPECT_EQ(visibility.depth, rendering.depth);
+  long near_pixels = 0;
+  for (const int f : visibility.face) near_pixels += f >= far.F.rows();
+  EXPECT_GT(near_pixels, 500);  // the nearer sphere occludes the farther one in the middle
+}
+
 TEST(Png, RoundTripIsExactAndAtomic) {
   testing::TemporaryDirectory dir("render-png");
   render::Image image(7, 5, Eigen::Vector3d(0.2, 0.4, 0.6));
