@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <numbers>
 #include <utility>
+#include <vector>
 
 #include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
@@ -32,29 +33,44 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   icp.normal_compatibility = options.normal_compatibility;
   icp.iterations = 12;
   const double gate = icp.max_distance;
-  auto fit_from = [&](double heading) {
+  auto start_at = [&](double heading) {
     RigidFit start;
     start.rotation = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitY()).toRotationMatrix();
     start.translation = target_centre - start.rotation * source_centre;
-    return fit_rigid(points, point_normals, target, icp, start);
+    return start;
   };
   auto score = [&](const RigidFit& fit) {
     const Eigen::MatrixXd moved = transformed(points, fit);
     return coloured ? clamped_mean_joint_distance(moved, point_colours, target, *colours.target, colours.scale, gate)
                     : clamped_mean_distance(moved, target, gate);
   };
-  auto attempt = [&](double heading) {
-    const RigidFit fit = fit_from(heading);
-    return std::pair{fit, score(fit)};
-  };
   // Frames that overlap as they stand keep their heading; only a search compares headings.
-  RigidFit best = fit_from(0.0);
+  RigidFit best = fit_rigid(points, point_normals, target, icp, start_at(0.0));
   if (clamped_mean_distance(transformed(points, best), target, gate) <= 1.5 * model.mean_edge() ||
       options.heading_samples <= 1)
     return best;
-  double best_score = score(best);
+  // Coarse to fine: every other heading is fitted with a few iterations and scored; the best few
+  // are fitted on to the full count (the ICP continues from where it stopped) and compared with
+  // heading 0's fit.
+  constexpr int screening_iterations = 4;
+  constexpr std::size_t finalists = 3;
+  IcpOptions screening = icp;
+  screening.iterations = std::min(icp.iterations, screening_iterations);
+  std::vector<std::pair<double, RigidFit>> screened;
   for (int k = 1; k < options.heading_samples; ++k) {
-    const auto [fit, fit_score] = attempt(2 * std::numbers::pi * k / options.heading_samples);
+    const RigidFit fit = fit_rigid(points, point_normals, target, screening,
+                                   start_at(2 * std::numbers::pi * k / options.heading_samples));
+    screened.emplace_back(score(fit), fit);
+  }
+  // Ties keep the lower heading (stable order): deterministic.
+  std::stable_sort(screened.begin(), screened.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  IcpOptions rest = icp;
+  rest.iterations = icp.iterations - screening.iterations;
+  double best_score = score(best);
+  for (std::size_t k = 0; k < std::min(finalists, screened.size()); ++k) {
+    const RigidFit fit = rest.iterations > 0 ? fit_rigid(points, point_normals, target, rest, screened[k].second)
+                                             : screened[k].second;
+    const double fit_score = score(fit);
     if (fit_score < best_score) {
       best = fit;
       best_score = fit_score;

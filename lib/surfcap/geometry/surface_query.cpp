@@ -20,10 +20,27 @@ using Triangle = Kernel::Triangle_3;
 using Ray = Kernel::Ray_3;
 using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point to_point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 Eigen::Vector3d to_eigen(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+/// CGAL's AABB traits with the closest point of a triangle by Voronoi regions
+/// (closest_point_on_triangle) instead of the kernel's projection onto the supporting plane and
+/// its edges: the same point to rounding, at a fraction of the cost.
+struct Traits : CGAL::AABB_traits<Kernel, Primitive> {
+  class Closest_point {
+   public:
+    Point operator()(const Point& p, const Primitive& primitive, const Point& bound) const {
+      const Triangle& triangle = *primitive.id();
+      const Eigen::Vector3d query = to_eigen(p);
+      const Eigen::Vector3d closest =
+          closest_point_on_triangle(query, to_eigen(triangle[0]), to_eigen(triangle[1]), to_eigen(triangle[2]));
+      return (closest - query).squaredNorm() > CGAL::squared_distance(p, bound) ? bound : to_point(closest);
+    }
+  };
+  Closest_point closest_point_object() const { return {}; }
+};
+using Tree = CGAL::AABB_tree<Traits>;
 
 }  // namespace
 

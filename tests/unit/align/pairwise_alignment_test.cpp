@@ -156,17 +156,28 @@ TEST(RigidInitialisation, ColoursTellTheHeadingWhereTheShapeLooksTheSameTurnedHa
     const Eigen::Vector3d forward = fit.rotation * Eigen::Vector3d::UnitZ();
     return std::atan2(forward.x(), forward.z());
   };
-  // Geometry alone cannot tell: the first heading tried stays.
+  // Geometry alone tells the axis, not which way round: the fit faces forwards or backwards.
   const RigidFit shape_only = rigid_initialisation(parent.V, normals, target, model, options);
-  EXPECT_LT(std::abs(heading(shape_only)), 0.2);
-  // In the joint position-colour space the half turn is clearly closer.
+  EXPECT_LT(std::abs(std::sin(heading(shape_only))), 0.2);
+  // The frame as it stands (no heading search) is the wrong way round in colour.
+  PairwiseOptions unsearched = options;
+  unsearched.heading_samples = 1;
+  const RigidFit as_it_stands =
+      rigid_initialisation(parent.V, normals, target, model, unsearched, {&parent.colors, &child.colors, 1.0});
+  EXPECT_LT(std::abs(heading(as_it_stands)), 0.2);
+  // In the joint position-colour space the half turn is clearly closer, and the search finds it.
   const RigidFit coloured =
       rigid_initialisation(parent.V, normals, target, model, options, {&parent.colors, &child.colors, 1.0});
   EXPECT_GT(std::abs(heading(coloured)), M_PI - 0.2);
   EXPECT_LT(clamped_mean_joint_distance(transformed(parent.V, coloured), parent.colors, target, child.colors, 1.0,
                                         geometric_gate),
-            0.5 * clamped_mean_joint_distance(transformed(parent.V, shape_only), parent.colors, target, child.colors,
+            0.5 * clamped_mean_joint_distance(transformed(parent.V, as_it_stands), parent.colors, target, child.colors,
                                               1.0, geometric_gate));
+  // The same shapes with the child not turned: only the colours differ, and the heading follows them.
+  const core::Mesh unturned = two_tone_ellipsoid(29, 52, {0.4, 0.6, 0.08}, false);
+  const RigidFit facing =
+      rigid_initialisation(parent.V, normals, target, model, options, {&parent.colors, &unturned.colors, 1.0});
+  EXPECT_LT(std::abs(heading(facing)), 0.2);
 }
 
 TEST(PairwiseAlignment, SmoothedColoursAverageNeighboursAndKeepConstantsExact) {
