@@ -12,20 +12,39 @@
 
 namespace surfcap::align {
 
+namespace {
+
+/// Every `step`-th row of a surface's points, normals and (when given) colours.
+struct PointSample {
+  Eigen::MatrixXd points, normals, colours;
+  PointSample(const Eigen::MatrixXd& surface, const Eigen::MatrixXd& surface_normals, const Eigen::MatrixXd* surface_colours,
+              long step) {
+    const long count = (surface.rows() + step - 1) / step;
+    points.resize(count, 3);
+    normals.resize(count, 3);
+    colours.resize(surface_colours != nullptr ? count : 0, 3);
+    for (long i = 0; i < count; ++i) {
+      points.row(i) = surface.row(i * step);
+      normals.row(i) = surface_normals.row(i * step);
+      if (surface_colours != nullptr) colours.row(i) = surface_colours->row(i * step);
+    }
+  }
+};
+
+}  // namespace
+
 RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
                               const geometry::SurfaceQuery& target, const AlignmentTemplate& model,
                               const PairwiseOptions& options, const RigidColours& colours) {
-  // A subsample keeps the initialisation cheap; every k-th vertex, deterministic.
-  const long step = std::max<long>(1, surface.rows() / 800);
-  const long count = (surface.rows() + step - 1) / step;
   const bool coloured = colours.surface != nullptr && colours.target != nullptr && colours.scale > 0 &&
                         colours.surface->rows() == surface.rows() && colours.target->rows() == target.vertices().rows();
-  Eigen::MatrixXd points(count, 3), point_normals(count, 3), point_colours(coloured ? count : 0, 3);
-  for (long i = 0; i < count; ++i) {
-    points.row(i) = surface.row(i * step);
-    point_normals.row(i) = normals.row(i * step);
-    if (coloured) point_colours.row(i) = colours.surface->row(i * step);
-  }
+  // A subsample keeps the initialisation cheap (every k-th vertex, deterministic); a sparser one of
+  // it ranks the headings of a search.
+  const PointSample sample(surface, normals, coloured ? colours.surface : nullptr,
+                           std::max<long>(1, surface.rows() / 800));
+  const PointSample sparse(sample.points, sample.normals, coloured ? &sample.colours : nullptr, 4);
+  const Eigen::MatrixXd& points = sample.points;
+  const Eigen::MatrixXd& point_normals = sample.normals;
   const Eigen::Vector3d source_centre = points.colwise().mean().transpose();
   const Eigen::Vector3d target_centre = target.vertices().colwise().mean().transpose();
   IcpOptions icp;
@@ -39,28 +58,29 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
     start.translation = target_centre - start.rotation * source_centre;
     return start;
   };
-  auto score = [&](const RigidFit& fit) {
-    const Eigen::MatrixXd moved = transformed(points, fit);
-    return coloured ? clamped_mean_joint_distance(moved, point_colours, target, *colours.target, colours.scale, gate)
+  auto score_of = [&](const PointSample& of, const RigidFit& fit) {
+    const Eigen::MatrixXd moved = transformed(of.points, fit);
+    return coloured ? clamped_mean_joint_distance(moved, of.colours, target, *colours.target, colours.scale, gate)
                     : clamped_mean_distance(moved, target, gate);
   };
+  auto score = [&](const RigidFit& fit) { return score_of(sample, fit); };
   // Frames that overlap as they stand keep their heading; only a search compares headings.
   RigidFit best = fit_rigid(points, point_normals, target, icp, start_at(0.0));
   if (clamped_mean_distance(transformed(points, best), target, gate) <= 1.5 * model.mean_edge() ||
       options.heading_samples <= 1)
     return best;
-  // Coarse to fine: every other heading is fitted with a few iterations and scored; the best few
-  // are fitted on to the full count (the ICP continues from where it stopped) and compared with
-  // heading 0's fit.
+  // Coarse to fine: every other heading is fitted to the sparse sample with a few iterations and
+  // scored on it; the best few are fitted on with the whole sample (the ICP continues from where it
+  // stopped) and compared with heading 0's fit.
   constexpr int screening_iterations = 4;
   constexpr std::size_t finalists = 3;
   IcpOptions screening = icp;
   screening.iterations = std::min(icp.iterations, screening_iterations);
   std::vector<std::pair<double, RigidFit>> screened;
   for (int k = 1; k < options.heading_samples; ++k) {
-    const RigidFit fit = fit_rigid(points, point_normals, target, screening,
+    const RigidFit fit = fit_rigid(sparse.points, sparse.normals, target, screening,
                                    start_at(2 * std::numbers::pi * k / options.heading_samples));
-    screened.emplace_back(score(fit), fit);
+    screened.emplace_back(score_of(sparse, fit), fit);
   }
   // Ties keep the lower heading (stable order): deterministic.
   std::stable_sort(screened.begin(), screened.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
