@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -43,22 +45,40 @@ cv::Mat to_mat(const GreyImage& image, const cv::Rect& box) {
   return mat;
 }
 
-/// Component-wise weighted median of 3-vectors.
-Eigen::Vector3d weighted_median(std::vector<std::pair<Eigen::Vector3d, double>>& values) {
-  Eigen::Vector3d median;
+/// The weighted median of `values` (value, weight > 0): the least value whose weight together with
+/// that of every smaller value reaches half the total. Quickselect on the weights, O(n) expected;
+/// reorders `values`.
+double weighted_median(std::vector<std::pair<double, double>>& values) {
   double total = 0;
   for (const auto& value : values) total += value.second;
-  for (int axis = 0; axis < 3; ++axis) {
-    std::sort(values.begin(), values.end(), [axis](const auto& a, const auto& b) { return a.first(axis) < b.first(axis); });
-    double sum = 0;
-    median(axis) = values.back().first(axis);
-    for (const auto& value : values) {
-      sum += value.second;
-      if (sum >= 0.5 * total) {
-        median(axis) = value.first(axis);
-        break;
-      }
+  double below = 0;  // weight of the values left of [first, last)
+  auto first = values.begin(), last = values.end();
+  while (last - first > 1) {
+    const auto middle = first + (last - first) / 2;
+    std::nth_element(first, middle, last, [](const auto& a, const auto& b) { return a.first < b.first; });
+    double left = below;
+    for (auto it = first; it != middle; ++it) left += it->second;
+    // Values equal to the pivot may lie on either side of it: a reached half inside them is the pivot.
+    if (left >= 0.5 * total) {
+      last = middle;
+    } else if (left + middle->second >= 0.5 * total) {
+      return middle->first;
+    } else {
+      below = left + middle->second;
+      first = middle + 1;
     }
+  }
+  return first != last ? first->first : values.back().first;
+}
+
+/// Component-wise weighted median of 3-vectors.
+Eigen::Vector3d weighted_median(const std::vector<std::pair<Eigen::Vector3d, double>>& values,
+                                std::vector<std::pair<double, double>>& scratch) {
+  Eigen::Vector3d median;
+  for (int axis = 0; axis < 3; ++axis) {
+    scratch.clear();
+    for (const auto& value : values) scratch.emplace_back(value.first(axis), value.second);
+    median(axis) = weighted_median(scratch);
   }
   return median;
 }
@@ -163,20 +183,43 @@ std::optional<double> TemplateAppearance::sample(long face, const Eigen::Vector3
 
 namespace {
 
+/// The template's bounding box in the rendering plus `margin` pixels, within the image: flow only
+/// there (the actor covers a small part of a studio image). Empty when no pixel shows the template.
+cv::Rect flow_box(const render::Visibility& seen, int w, int h, int margin) {
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+  if (x1 < 0) return {};
+  x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
+  x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
+  return cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+}
+
 /// What the template at `surface` looks like in `camera` (index `c`, the child's `actual` image
-/// for the background): per pixel the root appearance of its template point, the point itself
-/// (barycentric in the face `seen` shows) and whether it is usable (1), shown but too grazing (2)
-/// or not the template's (0). Empty when no pixel shows an appearance.
+/// for the background) within `box` (flow_box): per pixel of the box (row-major) the root
+/// appearance of its template point, the point itself (barycentric in the face `seen` shows) and
+/// whether it is usable (1), shown but too grazing (2) or not the template's (0). Empty when no
+/// pixel shows an appearance.
 struct CameraPrediction {
+  cv::Rect box;
   GreyImage image;
   std::vector<Eigen::Vector3d> barycentric;
   std::vector<char> valid;
+  /// The index in the box's buffers of image pixel (x, y), which is in the box.
+  std::size_t index(int x, int y) const {
+    return static_cast<std::size_t>(y - box.y) * static_cast<std::size_t>(box.width) + static_cast<std::size_t>(x - box.x);
+  }
 };
 
 std::optional<CameraPrediction> predict_camera(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
                                                const Eigen::MatrixXi& F, const Eigen::MatrixXd& normals,
                                                const render::Visibility& seen, const render::Camera& camera,
-                                               std::size_t c, const GreyImage& actual, const FlowOptions& options) {
+                                               std::size_t c, const GreyImage& actual, const cv::Rect& box,
+                                               const FlowOptions& options) {
+  if (box.empty()) return std::nullopt;
   const int w = camera.width, h = camera.height;
   // Elsewhere the child's background (median of its border pixels); template points no root
   // camera saw get the mean appearance.
@@ -185,19 +228,19 @@ std::optional<CameraPrediction> predict_camera(const TemplateAppearance& appeara
   for (int y = 0; y < h; ++y) border.insert(border.end(), {actual.at(0, y), actual.at(w - 1, y)});
   std::nth_element(border.begin(), border.begin() + static_cast<long>(border.size() / 2), border.end());
   const float background = border[border.size() / 2];
-  CameraPrediction prediction{
-      GreyImage{w, h, std::vector<float>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), background)}, {}, {}};
+  const std::size_t pixels = static_cast<std::size_t>(box.width) * static_cast<std::size_t>(box.height);
+  CameraPrediction prediction{box, GreyImage{box.width, box.height, std::vector<float>(pixels, background)}, {}, {}};
   GreyImage& predicted = prediction.image;
-  prediction.barycentric.assign(predicted.pixels.size(), Eigen::Vector3d::Constant(-1));
-  prediction.valid.assign(predicted.pixels.size(), 0);
+  prediction.barycentric.assign(pixels, Eigen::Vector3d::Constant(-1));
+  prediction.valid.assign(pixels, 0);
   double valid_sum = 0;
   long valid_count = 0;
   const Eigen::Vector3d centre = camera.centre();
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-      const int f = seen.face[i];
+  for (int y = box.y; y < box.y + box.height; ++y)
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      const int f = seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
       if (f < 0) continue;
+      const std::size_t i = prediction.index(x, y);
       const Eigen::Vector3d a = surface.row(F(f, 0)), b = surface.row(F(f, 1)), d = surface.row(F(f, 2));
       const Eigen::Vector3d normal = normals.row(f).transpose();
       const Eigen::Vector3d ray = pixel_ray(camera, x, y);
@@ -214,30 +257,21 @@ std::optional<CameraPrediction> predict_camera(const TemplateAppearance& appeara
     }
   if (valid_count == 0) return std::nullopt;
   const float fill = static_cast<float>(valid_sum / static_cast<double>(valid_count));
-  for (std::size_t i = 0; i < predicted.pixels.size(); ++i)
-    if (seen.face[i] >= 0 && prediction.valid[i] == 0) predicted.pixels[i] = fill;
+  for (int y = box.y; y < box.y + box.height; ++y)
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      const std::size_t i = prediction.index(x, y);
+      if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0 &&
+          prediction.valid[i] == 0)
+        predicted.pixels[i] = fill;
+    }
   return prediction;
 }
 
-/// The template's bounding box in the rendering plus `margin` pixels, within the image: flow only
-/// there (the actor covers a small part of a studio image).
-cv::Rect flow_box(const render::Visibility& seen, int w, int h, int margin) {
-  int x0 = w, y0 = h, x1 = -1, y1 = -1;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] >= 0) {
-        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-      }
-  x0 = std::max(0, x0 - margin), y0 = std::max(0, y0 - margin);
-  x1 = std::min(w - 1, x1 + margin), y1 = std::min(h - 1, y1 + margin);
-  return cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
-}
-
 /// The first hit of the ray centre + s·ray (s > 0, `ray` unit), cast through the point (qx, qy)
-/// of the image in which `child_seen` is the child's reconstruction: the nearest hit among the
+/// of the image in which `child_faces` shows the child's reconstruction: the nearest hit among the
 /// faces seen at the four pixel centres around the point, or the tree's ray cast where the ray
 /// passes through none of them (a silhouette, faces smaller than a pixel).
-std::optional<geometry::SurfacePoint> first_hit_near(const render::Visibility& child_seen, int w, int h,
+std::optional<geometry::SurfacePoint> first_hit_near(const std::vector<int>& child_faces, int w, int h,
                                                      const geometry::SurfaceQuery& child,
                                                      const Eigen::Vector3d& centre, const Eigen::Vector3d& ray,
                                                      double qx, double qy) {
@@ -248,7 +282,7 @@ std::optional<geometry::SurfacePoint> first_hit_near(const render::Visibility& c
     for (int dx = 0; dx <= 1; ++dx) {
       const int x = x0 + dx, y = y0 + dy;
       if (x < 0 || y < 0 || x >= w || y >= h) continue;
-      const int f = child_seen.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
+      const int f = child_faces[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)];
       if (f >= 0 && std::find(faces.begin(), faces.begin() + count, f) == faces.begin() + count) faces[count++] = f;
     }
   std::optional<geometry::SurfacePoint> best;
@@ -278,19 +312,20 @@ std::optional<geometry::SurfacePoint> first_hit_near(const render::Visibility& c
 /// Per template vertex, the offsets (and barycentric weights) of the forward-backward consistent
 /// flow pixels of one camera: the moved pixel's ray hits the child's reconstruction there.
 void collect_offsets(const CameraPrediction& prediction, const render::Visibility& seen,
-                     const render::Visibility& child_seen, const render::Camera& camera, const cv::Rect& box,
-                     const cv::Mat& forward, const cv::Mat& backward,
+                     const std::vector<int>& child_faces, const render::Camera& camera, const cv::Mat& forward, const cv::Mat& backward,
                      const Eigen::MatrixXd& surface, const Eigen::MatrixXi& F, const Eigen::MatrixXd& normals,
                      const geometry::SurfaceQuery& child, double max_offset, const FlowOptions& options,
                      std::vector<std::vector<std::pair<Eigen::Vector3d, double>>>& offsets, long& pixels) {
   const int w = camera.width;
+  const cv::Rect& box = prediction.box;
   const int x0 = box.x, y0 = box.y, x1 = box.x + box.width - 1, y1 = box.y + box.height - 1;
   const Eigen::Vector3d centre = camera.centre();
   const double tolerance2 = options.consistency_px * options.consistency_px;
   for (int y = y0; y <= y1; y += options.stride)
     for (int x = x0; x <= x1; x += options.stride) {
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-      if (prediction.valid[i] != 1) continue;
+      const std::size_t j = prediction.index(x, y);
+      if (prediction.valid[j] != 1) continue;
       const cv::Point2f flow = forward.at<cv::Point2f>(y - y0, x - x0);
       const double qx = x + flow.x, qy = y + flow.y;
       if (!(qx >= x0 && qy >= y0 && qx <= x1 && qy <= y1)) continue;
@@ -300,13 +335,13 @@ void collect_offsets(const CameraPrediction& prediction, const render::Visibilit
       const double ex = flow.x + back.x, ey = flow.y + back.y;
       if (ex * ex + ey * ey > tolerance2) continue;
       const Eigen::Vector3d ray = pixel_ray(camera, qx, qy);
-      const auto target = first_hit_near(child_seen, w, camera.height, child, centre, ray, qx, qy);
+      const auto target = first_hit_near(child_faces, w, camera.height, child, centre, ray, qx, qy);
       if (!target) continue;
       const Eigen::Vector3d target_normal = child.face_normal(target->face);
       if (-target_normal.dot(ray) < options.min_facing) continue;
       const int f = seen.face[i];
       if (target_normal.dot(normals.row(f).transpose()) < options.normal_compatibility) continue;
-      const Eigen::Vector3d& b = prediction.barycentric[i];
+      const Eigen::Vector3d& b = prediction.barycentric[j];
       const Eigen::Vector3d point = b[0] * surface.row(F(f, 0)).transpose() + b[1] * surface.row(F(f, 1)).transpose() +
                                     b[2] * surface.row(F(f, 2)).transpose();
       const Eigen::Vector3d offset = target->position - point;
@@ -320,14 +355,14 @@ void collect_offsets(const CameraPrediction& prediction, const render::Visibilit
 }  // namespace
 
 FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
-                         const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
-                         const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options) {
+                         const Eigen::MatrixXi& F, const ChildViews& child, double mean_edge,
+                         const FlowOptions& options) {
   const long n = surface.rows();
   FlowTargets result;
   result.targets = surface;
   result.support = Eigen::VectorXd::Zero(n);
   const auto& cameras = appearance.cameras();
-  if (child_images.size() != cameras.size()) return result;
+  if (child.images().size() != cameras.size()) return result;
   const Eigen::MatrixXd normals = face_normals(surface, F);
   std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> offsets(static_cast<std::size_t>(n));
   // DIS's medium preset at full resolution or, where the template spans at least
@@ -337,30 +372,40 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
   const cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     const render::Camera& camera = cameras[c];
-    const GreyImage& actual = child_images[c];
+    const GreyImage& actual = child.images()[c];
     const render::Visibility seen = render::render_visibility(surface, F, camera);
-    const auto prediction = predict_camera(appearance, surface, F, normals, seen, camera, c, actual, options);
-    if (!prediction) continue;
     const cv::Rect box = flow_box(seen, camera.width, camera.height, options.margin_px);
-    const cv::Mat from = to_mat(prediction->image, box), to = to_mat(actual, box);
+    const auto prediction = predict_camera(appearance, surface, F, normals, seen, camera, c, actual, box, options);
+    if (!prediction) continue;
+    const cv::Mat from = to_mat(prediction->image, cv::Rect(0, 0, box.width, box.height)), to = to_mat(actual, box);
     const int span = std::max(box.width, box.height) - 2 * options.margin_px;
     dis->setFinestScale(span >= kHalfResolutionSpanPx ? 1 : 0);
     cv::Mat forward, backward;
     dis->calc(from, to, forward);
     dis->calc(to, from, backward);
-    const render::Visibility child_seen = render::render_visibility(child.vertices(), child.faces(), camera);
-    collect_offsets(*prediction, seen, child_seen, camera, box, forward, backward, surface, F, normals, child,
-                    options.max_offset_edges * mean_edge, options, offsets, result.pixels);
+    collect_offsets(*prediction, seen, child.faces(c, camera), camera, forward, backward, surface, F, normals,
+                    child.reconstruction(), options.max_offset_edges * mean_edge, options, offsets, result.pixels);
   }
+  std::vector<std::pair<double, double>> scratch;
   for (long v = 0; v < n; ++v) {
-    auto& values = offsets[static_cast<std::size_t>(v)];
+    const auto& values = offsets[static_cast<std::size_t>(v)];
     if (values.empty()) continue;
     double support = 0;
     for (const auto& value : values) support += value.second;
     result.support(v) = support;
-    result.targets.row(v) = surface.row(v) + weighted_median(values).transpose();
+    result.targets.row(v) = surface.row(v) + weighted_median(values, scratch).transpose();
   }
   return result;
+}
+
+ChildViews::ChildViews(const geometry::SurfaceQuery& reconstruction, std::vector<GreyImage> images)
+    : reconstruction_(&reconstruction), images_(std::move(images)), faces_(images_.size()) {}
+
+const std::vector<int>& ChildViews::faces(std::size_t c, const render::Camera& camera) const {
+  if (c >= faces_.size()) throw core::internal_error("ChildViews: no image of camera " + std::to_string(c));
+  if (faces_[c].empty())
+    faces_[c] = render::render_visibility(reconstruction_->vertices(), reconstruction_->faces(), camera).face;
+  return faces_[c];
 }
 
 long set_flow_targets(const FlowTargets& flow, double weight, Eigen::MatrixXd& targets, Eigen::VectorXd& weights) {

@@ -105,13 +105,31 @@ struct FlowTargets {
   long pixels = 0;          ///< accepted pixel correspondences (all cameras)
 };
 
-/// Flow targets for the template surface `surface` (n×3, faces F) against the child's camera images
-/// (`child_images`, the capture's camera order) and reconstruction `child`. Per vertex, the target is
-/// the component-wise weighted median of the offsets of the accepted pixels on its faces.
-/// Deterministic: cameras in order (OpenCV's DIS splits its work into fixed stripes).
+/// The child frame as the cameras show it: its reconstruction, its grey camera images (the
+/// capture's camera order) and, rendered on first use and kept for every flow iteration and attempt
+/// of an edge, the reconstruction's face at each pixel. Used by one thread at a time.
+class ChildViews {
+ public:
+  /// `reconstruction` must outlive the views.
+  ChildViews(const geometry::SurfaceQuery& reconstruction, std::vector<GreyImage> images);
+  const geometry::SurfaceQuery& reconstruction() const { return *reconstruction_; }
+  const std::vector<GreyImage>& images() const { return images_; }
+  /// The face seen at each pixel (row-major, −1 where none) by camera `c`, which is `camera`.
+  const std::vector<int>& faces(std::size_t c, const render::Camera& camera) const;
+
+ private:
+  const geometry::SurfaceQuery* reconstruction_;
+  std::vector<GreyImage> images_;
+  mutable std::vector<std::vector<int>> faces_;  ///< per camera; empty until rendered
+};
+
+/// Flow targets for the template surface `surface` (n×3, faces F) against the child frame's images
+/// and reconstruction. Per vertex, the target is the component-wise weighted median of the offsets
+/// of the accepted pixels on its faces. Deterministic: cameras in order (OpenCV's DIS splits its
+/// work into fixed stripes).
 FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
-                         const Eigen::MatrixXi& F, const std::vector<GreyImage>& child_images,
-                         const geometry::SurfaceQuery& child, double mean_edge, const FlowOptions& options);
+                         const Eigen::MatrixXi& F, const ChildViews& child, double mean_edge,
+                         const FlowOptions& options);
 
 /// Sets the targets of the vertices with flow support (weight × min(1, support)), overriding any
 /// other target there; returns how many.

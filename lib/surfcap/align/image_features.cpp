@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
@@ -116,6 +117,38 @@ void two_nearest_both_ways(const Descriptors& parent, const Descriptors& child, 
     }
 }
 
+/// The part of `camera`'s image where the reconstruction (vertices V) can show, for SIFT: the box
+/// of the vertices' projections grown by a margin for the filters and descriptor windows of the
+/// keypoints on it (a quarter of the box's larger side, at least 48 pixels), its origin on a
+/// multiple of 32 pixels so that the pyramid's octaves sample the crop on the whole image's grid.
+/// The whole image where a vertex is behind the camera.
+cv::Rect feature_box(const core::CaptureCamera& camera, const Eigen::MatrixXd& V, const cv::Mat& K,
+                     const cv::Mat& distortion) {
+  const cv::Rect whole(0, 0, camera.width, camera.height);
+  if (V.rows() == 0) return whole;
+  std::vector<cv::Point3d> points(static_cast<std::size_t>(V.rows()));
+  for (long v = 0; v < V.rows(); ++v) {
+    const Eigen::Vector3d c = camera.R * V.row(v).transpose() + camera.t;
+    if (!(c.z() > 0)) return whole;
+    points[static_cast<std::size_t>(v)] = {c.x(), c.y(), c.z()};
+  }
+  std::vector<cv::Point2d> pixels;
+  cv::projectPoints(points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, distortion, pixels);
+  double x0 = camera.width, y0 = camera.height, x1 = 0, y1 = 0;
+  for (const auto& p : pixels) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return whole;
+    x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+  }
+  const double margin = std::max(48.0, 0.25 * std::max(x1 - x0, y1 - y0));
+  constexpr int kGrid = 32;
+  const int left = std::max(0, static_cast<int>(std::floor((x0 - margin) / kGrid)) * kGrid);
+  const int top = std::max(0, static_cast<int>(std::floor((y0 - margin) / kGrid)) * kGrid);
+  const int right = std::min(camera.width, static_cast<int>(std::ceil(x1 + margin)) + 1);
+  const int bottom = std::min(camera.height, static_cast<int>(std::ceil(y1 + margin)) + 1);
+  if (right <= left || bottom <= top) return {};
+  return cv::Rect(left, top, right - left, bottom - top);
+}
+
 }  // namespace
 
 void serial_image_processing() { cv::setNumThreads(1); }
@@ -132,18 +165,24 @@ FrameFeatures detect_frame_features(const core::Capture& capture, int sequence, 
     const auto path = capture.image_path(sequence, frame, c);
     const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
     if (image.empty()) throw core::bad_input(path, "unreadable camera image", frame);
-    std::vector<cv::KeyPoint> keypoints;
-    cv::Mat descriptors;
-    detect_strongest(*sift, image, options.max_per_image, keypoints, descriptors);
-    features.detected += static_cast<long>(keypoints.size());
-    if (keypoints.empty()) continue;
-    // Undistorted normalised coordinates of the keypoints → camera rays → first surface hit.
-    std::vector<cv::Point2f> pixels;
-    for (const auto& keypoint : keypoints) pixels.push_back(keypoint.pt);
+    if (image.cols != camera.width || image.rows != camera.height)
+      throw core::bad_input(path, "image size differs from camera " + camera.name + " in cameras.json", frame);
     cv::Mat K(3, 3, CV_64F), distortion(1, 5, CV_64F);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) K.at<double>(i, j) = camera.K(i, j);
     for (int i = 0; i < 5; ++i) distortion.at<double>(0, i) = camera.distortion(i);
+    // Keypoints off the reconstruction are dropped below: detect only where it can show.
+    const cv::Rect box = feature_box(camera, reconstruction.vertices(), K, distortion);
+    if (box.empty()) continue;
+    std::vector<cv::KeyPoint> keypoints;
+    cv::Mat descriptors;
+    detect_strongest(*sift, image(box), options.max_per_image, keypoints, descriptors);
+    features.detected += static_cast<long>(keypoints.size());
+    if (keypoints.empty()) continue;
+    // Undistorted normalised coordinates of the keypoints → camera rays → first surface hit.
+    std::vector<cv::Point2f> pixels;
+    for (const auto& keypoint : keypoints)
+      pixels.push_back(keypoint.pt + cv::Point2f(static_cast<float>(box.x), static_cast<float>(box.y)));
     std::vector<cv::Point2f> normalised;
     cv::undistortPoints(pixels, normalised, K, distortion);
     const Eigen::Vector3d centre = -camera.R.transpose() * camera.t;

@@ -57,8 +57,8 @@ class PairwiseSchedule {
   Eigen::MatrixXd surface() const { return positions_.topRows(surface_count_); }
 
   bool use_flow() const {
-    return options_.flow.weight && features_.appearance != nullptr && features_.child_images != nullptr &&
-           !features_.child_images->empty();
+    return options_.flow.weight && features_.appearance != nullptr && features_.child_views != nullptr &&
+           !features_.child_views->images().empty();
   }
 
   /// Rigid initialisation, and the feature matches between parent and child predicted by it.
@@ -127,8 +127,8 @@ class PairwiseSchedule {
     const Eigen::MatrixXd current = surface();
     TargetSet targets(current);
     result_.dense_constraints = dense_.add(current, targets, result_);
-    FlowTargets flow = flow_targets(*features_.appearance, current, model_.mesh().F, *features_.child_images,
-                                          target_, model_.mean_edge(), options_.flow);
+    FlowTargets flow = flow_targets(*features_.appearance, current, model_.mesh().F, *features_.child_views,
+                                    model_.mean_edge(), options_.flow);
     drop_unobserved(flow);
     result_.flow_pixels = flow.pixels;
     result_.flow_vertices = set_flow_targets(flow, *options_.flow.weight, targets.positions, targets.weights);
@@ -232,6 +232,8 @@ PairwiseResult align_pair(const AlignmentTemplate& model, const Eigen::MatrixXd&
   if (parent_positions.rows() != deformer.vertex_count()) throw core::internal_error("align_pair: parent size");
   if (predicted_surface != nullptr && predicted_surface->rows() != deformer.surface_vertex_count())
     throw core::internal_error("align_pair: predicted surface size");
+  if (features.child_views != nullptr && &features.child_views->reconstruction() != &target)
+    throw core::internal_error("align_pair: the child views are of another reconstruction");
   return PairwiseSchedule(model, parent_positions, target, options, target_colors, features, predicted_surface).run();
 }
 

@@ -123,9 +123,10 @@ struct PairwiseResult {
 struct FeaturePair {
   const FrameFeatures* parent = nullptr;
   const FrameFeatures* child = nullptr;
-  /// The template's root appearance and the child's camera images (grey): enable the flow iterations.
+  /// The template's root appearance and the child frame's camera views (of the reconstruction
+  /// align_pair aligns to): enable the flow iterations.
   const TemplateAppearance* appearance = nullptr;
-  const std::vector<GreyImage>* child_images = nullptr;
+  const ChildViews* child_views = nullptr;
 };
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's

@@ -117,7 +117,7 @@ class EdgeAlignment {
       state.features[static_cast<std::size_t>(edge.child)] = state.detect_features(child_, query_);
       state.features_ready[static_cast<std::size_t>(edge.child)] = 1;
     }
-    if (state.appearance) child_images_ = read_grey_images(state.capture, child_.sequence, child_.frame);
+    if (state.appearance) child_views_.emplace(query_, read_grey_images(state.capture, child_.sequence, child_.frame));
   }
 
   void run() {
@@ -181,7 +181,7 @@ class EdgeAlignment {
     }
     if (state_.appearance) {
       pair.appearance = state_.appearance;
-      pair.child_images = &child_images_;
+      pair.child_views = &*child_views_;
     }
     return pair;
   }
@@ -237,7 +237,7 @@ class EdgeAlignment {
   const NodeFrame child_;
   const core::Mesh target_;
   const geometry::SurfaceQuery query_;
-  std::vector<GreyImage> child_images_;
+  std::optional<ChildViews> child_views_;
   FrameRecord& record_;
 };
 

@@ -34,8 +34,11 @@ void rasterize_face(long f, const ScreenVertex (&s)[3], Buffers& buffers) {
   const int y1 = std::min(buffers.height - 1, static_cast<int>(std::floor(std::max({s[0].y, s[1].y, s[2].y}))));
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
-      // Screen-space barycentrics; the same sign as the area means inside (either winding).
-      const double l0 = edge(s[1], s[2], x, y) / area, l1 = edge(s[2], s[0], x, y) / area;
+      // Screen-space barycentrics; the same sign as the area means inside (either winding). The
+      // signs of the first two are those of their edge functions: tested before dividing.
+      const double e0 = edge(s[1], s[2], x, y), e1 = edge(s[2], s[0], x, y);
+      if ((area > 0) ? (e0 < 0 || e1 < 0) : (e0 > 0 || e1 > 0)) continue;
+      const double l0 = e0 / area, l1 = e1 / area;
       const double l2 = 1.0 - l0 - l1;
       if (l0 < 0 || l1 < 0 || l2 < 0) continue;
       // Perspective-correct: 1/z is affine in screen space.

@@ -46,14 +46,14 @@ TEST_F(AppearanceFlow, TargetsUndoASlidingErrorOfTheEstimate) {
   const FlowOptions options;
   const TemplateAppearance root = appearance(options);
   EXPECT_GT(root.coverage(), 0.8);  // four cameras around an ellipsoid see nearly all of it
-  const std::vector<GreyImage> child_images = read_grey_images(scene_.capture, 0, 1);
-  const geometry::SurfaceQuery child(scene_.frames[1], scene_.rest.F);
+  const geometry::SurfaceQuery reconstruction(scene_.frames[1], scene_.rest.F);
+  const ChildViews child(reconstruction, read_grey_images(scene_.capture, 0, 1));
 
   // The estimate slid 8 mm sideways and 5 mm up along the bent, twisted child surface: a pure
   // tangential error that closest-point fitting cannot see. The flow targets undo most of it.
   const Eigen::RowVector3d slide(0.008, 0.005, 0.0);
   const Eigen::MatrixXd estimate = scene_.frames[1].rowwise() + slide;
-  const FlowTargets flow = flow_targets(root, estimate, scene_.rest.F, child_images, child, mean_edge(), options);
+  const FlowTargets flow = flow_targets(root, estimate, scene_.rest.F, child, mean_edge(), options);
   const std::vector<double> errors = target_errors(flow);
   ASSERT_GT(static_cast<double>(errors.size()), 0.6 * static_cast<double>(estimate.rows())) << "supported vertices";
   EXPECT_GT(flow.pixels, 5000);
@@ -65,14 +65,14 @@ TEST_F(AppearanceFlow, TargetsUndoASlidingErrorOfTheEstimate) {
   EXPECT_LT(errors[errors.size() * 9 / 10], 0.6 * start) << "90th percentile";
 
   // From the true positions the targets stay put (within a fraction of a pixel ≈ 4 mm here).
-  const FlowTargets still = flow_targets(root, scene_.frames[1], scene_.rest.F, child_images, child, mean_edge(), options);
+  const FlowTargets still = flow_targets(root, scene_.frames[1], scene_.rest.F, child, mean_edge(), options);
   const std::vector<double> still_errors = target_errors(still);
   ASSERT_FALSE(still_errors.empty());
   std::printf("from the truth: median %.2f mm\n", 1000 * still_errors[still_errors.size() / 2]);
   EXPECT_LT(still_errors[still_errors.size() / 2], 0.002);
 
   // Deterministic.
-  const FlowTargets again = flow_targets(root, estimate, scene_.rest.F, child_images, child, mean_edge(), options);
+  const FlowTargets again = flow_targets(root, estimate, scene_.rest.F, child, mean_edge(), options);
   EXPECT_EQ(again.pixels, flow.pixels);
   EXPECT_TRUE(again.targets == flow.targets);
 }
@@ -108,8 +108,9 @@ TEST_F(AppearanceFlow, EachCamerasPredictionTakesThatRootCamerasOwnSample) {
 TEST_F(AppearanceFlow, NoChildImagesGiveNoTargetsAndBadImagesAreBadInput) {
   const FlowOptions options;
   const TemplateAppearance root = appearance(options);
-  const geometry::SurfaceQuery child(scene_.frames[1], scene_.rest.F);
-  const FlowTargets none = flow_targets(root, scene_.frames[1], scene_.rest.F, {}, child, mean_edge(), options);
+  const geometry::SurfaceQuery reconstruction(scene_.frames[1], scene_.rest.F);
+  const FlowTargets none =
+      flow_targets(root, scene_.frames[1], scene_.rest.F, ChildViews(reconstruction, {}), mean_edge(), options);
   EXPECT_EQ(none.pixels, 0);
   EXPECT_EQ(none.support.maxCoeff(), 0.0);
 

@@ -61,11 +61,23 @@ TEST_F(ImageFeatures, BackProjectedMatchesFollowTheTrueMotion) {
             matching.constraints.size());
 }
 
-TEST_F(ImageFeatures, NoImagesMeansNoFeaturesAndMissingImagesAreBadInput) {
+TEST_F(ImageFeatures, NoImagesMeansNoFeaturesAndMissingOrMisfitImagesAreBadInput) {
   core::Capture without = capture_;
   without.sequences[0].images.clear();
   const geometry::SurfaceQuery surface(frames_[0], rest_.F);
   EXPECT_EQ(detect_frame_features(without, 0, 0, surface, {}).size(), 0);
+  // An image of another size than its camera's is bad input naming it (SIFT crops the image to
+  // where the reconstruction projects with that camera).
+  core::Capture resized = capture_;
+  resized.cameras[1].width /= 2;
+  try {
+    detect_frame_features(resized, 0, 0, surface, {});
+    FAIL() << "an image of the wrong size must throw";
+  } catch (const core::Error& error) {
+    EXPECT_EQ(error.code(), core::ExitCode::bad_input);
+    EXPECT_NE(std::string(error.what()).find("cam01"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("size"), std::string::npos) << error.what();
+  }
   std::filesystem::remove(capture_.image_path(0, 1, 2));
   try {
     detect_frame_features(capture_, 0, 1, surface, {});
