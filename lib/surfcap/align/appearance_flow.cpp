@@ -45,10 +45,22 @@ cv::Mat to_mat(const GreyImage& image, const cv::Rect& box) {
   return mat;
 }
 
-/// The weighted median of `values` (value, weight > 0): the least value whose weight together with
-/// that of every smaller value reaches half the total. Quickselect on the weights, O(n) expected;
-/// reorders `values`.
+/// Component-wise weighted median of 3-vectors.
+Eigen::Vector3d component_median(const std::vector<std::pair<Eigen::Vector3d, double>>& values,
+                                std::vector<std::pair<double, double>>& scratch) {
+  Eigen::Vector3d median;
+  for (int axis = 0; axis < 3; ++axis) {
+    scratch.clear();
+    for (const auto& value : values) scratch.emplace_back(value.first(axis), value.second);
+    median(axis) = weighted_median(scratch);
+  }
+  return median;
+}
+
+}  // namespace
+
 double weighted_median(std::vector<std::pair<double, double>>& values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
   double total = 0;
   for (const auto& value : values) total += value.second;
   double below = 0;  // weight of the values left of [first, last)
@@ -68,22 +80,10 @@ double weighted_median(std::vector<std::pair<double, double>>& values) {
       first = middle + 1;
     }
   }
-  return first != last ? first->first : values.back().first;
+  if (first != last) return first->first;
+  return std::max_element(values.begin(), values.end(), [](const auto& a, const auto& b) { return a.first < b.first; })
+      ->first;
 }
-
-/// Component-wise weighted median of 3-vectors.
-Eigen::Vector3d weighted_median(const std::vector<std::pair<Eigen::Vector3d, double>>& values,
-                                std::vector<std::pair<double, double>>& scratch) {
-  Eigen::Vector3d median;
-  for (int axis = 0; axis < 3; ++axis) {
-    scratch.clear();
-    for (const auto& value : values) scratch.emplace_back(value.first(axis), value.second);
-    median(axis) = weighted_median(scratch);
-  }
-  return median;
-}
-
-}  // namespace
 
 std::optional<double> GreyImage::sample(double x, double y) const {
   if (!(x >= 0 && y >= 0 && x <= width - 1 && y <= height - 1)) return std::nullopt;
@@ -393,7 +393,7 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
     double support = 0;
     for (const auto& value : values) support += value.second;
     result.support(v) = support;
-    result.targets.row(v) = surface.row(v) + weighted_median(values, scratch).transpose();
+    result.targets.row(v) = surface.row(v) + component_median(values, scratch).transpose();
   }
   return result;
 }

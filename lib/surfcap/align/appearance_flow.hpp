@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "surfcap/core/capture.hpp"
@@ -130,6 +131,12 @@ class ChildViews {
 FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::MatrixXd& surface,
                          const Eigen::MatrixXi& F, const ChildViews& child, double mean_edge,
                          const FlowOptions& options);
+
+/// The weighted median of `values` (value, weight > 0): the least value whose weight together with
+/// that of every smaller value reaches half the total (the largest value if rounding keeps the sum
+/// below half; NaN when empty). Quickselect, O(n) expected; reorders `values`. Per coordinate of
+/// the flow offsets.
+double weighted_median(std::vector<std::pair<double, double>>& values);
 
 /// Sets the targets of the vertices with flow support (weight × min(1, support)), overriding any
 /// other target there; returns how many.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 #include "textured_capture.hpp"
@@ -41,6 +42,41 @@ class AppearanceFlow : public ::testing::Test {
 
   testing::TexturedCapture scene_;
 };
+
+/// The weighted median by its definition: sort, then the first value at which the running weight
+/// reaches half the total.
+double sorted_weighted_median(std::vector<std::pair<double, double>> values) {
+  double total = 0;
+  for (const auto& value : values) total += value.second;
+  std::sort(values.begin(), values.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  double sum = 0;
+  for (const auto& value : values) {
+    sum += value.second;
+    if (sum >= 0.5 * total) return value.first;
+  }
+  return values.back().first;
+}
+
+TEST(WeightedMedian, IsTheSortedDefinitionWithTiesAndUnevenWeights) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> level(0, 9);  // few distinct values: many ties
+  std::uniform_real_distribution<double> weight(1e-3, 1.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 1 + trial % 37;
+    std::vector<std::pair<double, double>> values;
+    for (int i = 0; i < n; ++i) values.emplace_back(0.25 * level(random), trial % 3 == 0 ? 1.0 : weight(random));
+    const double expected = sorted_weighted_median(values);
+    std::vector<std::pair<double, double>> reordered = values;
+    ASSERT_EQ(weighted_median(reordered), expected) << "trial " << trial;
+  }
+  // One heavy value wins whatever the others; equal halves give the lower value.
+  std::vector<std::pair<double, double>> heavy{{1.0, 0.1}, {5.0, 3.0}, {-2.0, 0.1}, {9.0, 0.2}};
+  EXPECT_EQ(weighted_median(heavy), 5.0);
+  std::vector<std::pair<double, double>> halves{{2.0, 1.0}, {1.0, 1.0}};
+  EXPECT_EQ(weighted_median(halves), 1.0);
+  std::vector<std::pair<double, double>> none;
+  EXPECT_TRUE(std::isnan(weighted_median(none)));
+}
 
 TEST_F(AppearanceFlow, TargetsUndoASlidingErrorOfTheEstimate) {
   const FlowOptions options;
