@@ -43,6 +43,9 @@ struct PairwiseOptions {
   double coarse_distance_height = 0.08;  ///< correspondence gate at level 0 (fraction of the template's height)
   double dense_distance_edges = 3;  ///< dense-fit gate (template mean edges)
   int heading_samples = 12;         ///< headings tried when the frames do not overlap rigidly
+  /// Search the coarsest patches that fold the template onto itself about their joints
+  /// (patch_targets.hpp); not an option: the tree alignment sets it to align a folded frame again.
+  bool unfold = false;
   ColorOptions color;
   PatchColorOptions patch_color;
   PredictionOptions prediction;
@@ -104,6 +107,7 @@ struct PairwiseResult {
   int color_patches = 0;        ///< patch fits taken from the colour-aware matching
   bool predicted = false;       ///< a motion prediction was given (align_pair's predicted_surface)
   int predicted_patches = 0;    ///< patch fits taken from the motion-predicted start
+  int hinged_patches = 0;       ///< folded patches refitted about a joint (patch_targets.hpp)
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m), observed vertices
   double max_residual = 0;

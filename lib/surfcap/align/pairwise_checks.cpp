@@ -64,6 +64,14 @@ double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& alig
                         double distance, double rest_distance) {
   const long n = aligned.rows();
   if (n == 0 || distance <= 0) return 0.0;
+  const std::vector<char> stacked = stacked_vertices(rest, aligned, F, distance, rest_distance);
+  return static_cast<double>(std::count(stacked.begin(), stacked.end(), 1)) / static_cast<double>(n);
+}
+
+std::vector<char> stacked_vertices(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                                   double distance, double rest_distance) {
+  const long n = aligned.rows();
+  if (n == 0 || distance <= 0) return std::vector<char>(static_cast<std::size_t>(n), 0);
   const Eigen::MatrixXd normals = core::vertex_normals(aligned, F);
   const geometry::VertexGrid grid(aligned, distance);
   std::vector<char> stacked(static_cast<std::size_t>(n), 0);
@@ -74,7 +82,7 @@ double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& alig
       if ((rest.row(u) - rest.row(v)).squaredNorm() <= r2 || normals.row(u).dot(normals.row(v)) <= 0.5) return;
       stacked[static_cast<std::size_t>(u)] = stacked[static_cast<std::size_t>(v)] = 1;
     });
-  return static_cast<double>(std::count(stacked.begin(), stacked.end(), 1)) / static_cast<double>(n);
+  return stacked;
 }
 
 Verdict verdict(const PairwiseResult& result, double parent_residual, const FailureOptions& options) {

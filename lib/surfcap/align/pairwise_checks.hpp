@@ -84,6 +84,9 @@ std::vector<long> far_from_vertices(const Eigen::MatrixXd& points, const Eigen::
 /// than `rest_distance` from them in `rest`. Two parts that touch face each other and do not count.
 double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
                         double distance, double rest_distance);
+/// The same per vertex: 1 for a vertex in a stacked layer.
+std::vector<char> stacked_vertices(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                                   double distance, double rest_distance);
 
 /// An attempt passes, fits clearly worse than its parent did (`grown`: worth a retry, but no
 /// evidence of a wrong alignment on its own) or failed.

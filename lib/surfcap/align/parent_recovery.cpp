@@ -49,24 +49,27 @@ bool dominates(const PairwiseResult& a, const PairwiseResult& b) {
 
 }  // namespace
 
+std::optional<Verdict> keep_better(KeptAttempt& kept, std::optional<PairwiseResult> retry, long from,
+                                   const VerdictFrom& verdict) {
+  if (!retry) return std::nullopt;
+  const Verdict v = verdict(*retry, from);
+  // One that did not fail replaces one that did, or one with a higher mean residual; one that
+  // failed replaces one that failed only when it fits no worse by every check.
+  const bool usable = v != Verdict::failed;
+  if (!kept.result || (usable && (kept.verdict == Verdict::failed || retry->mean_residual < kept.result->mean_residual)) ||
+      (!usable && kept.verdict == Verdict::failed && dominates(*retry, *kept.result))) {
+    kept.result = std::move(retry);
+    kept.parent = from;
+    kept.verdict = v;
+  }
+  return v;
+}
+
 void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
                    const AttemptFrom& attempt, const VerdictFrom& verdict) {
   for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.retries; ++k) {
     const long from = candidates[k];
-    std::optional<PairwiseResult> retry = attempt(from);
-    if (!retry) continue;
-    const Verdict v = verdict(*retry, from);
-    // One that did not fail replaces one that did, or one with a higher mean residual; one that
-    // failed replaces one that failed only when it fits no worse by every check.
-    const bool usable = v != Verdict::failed;
-    if (!kept.result ||
-        (usable && (kept.verdict == Verdict::failed || retry->mean_residual < kept.result->mean_residual)) ||
-        (!usable && kept.verdict == Verdict::failed && dominates(*retry, *kept.result))) {
-      kept.result = std::move(retry);
-      kept.parent = from;
-      kept.verdict = v;
-    }
-    if (v == Verdict::pass) break;
+    if (keep_better(kept, attempt(from), from, verdict) == Verdict::pass) break;
   }
 }
 

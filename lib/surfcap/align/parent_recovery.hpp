@@ -56,6 +56,11 @@ std::vector<long> candidate_parents(const Eigen::MatrixXd& costs, long child, lo
                                     const std::vector<NodeFrame>& nodes, const std::function<bool(long)>& usable,
                                     bool per_sequence);
 
+/// Keeps `retry` (an attempt from `from`; nullopt: it threw) instead of the kept attempt by the
+/// rules above; returns its verdict (nullopt if it threw).
+std::optional<Verdict> keep_better(KeptAttempt& kept, std::optional<PairwiseResult> retry, long from,
+                                   const VerdictFrom& verdict);
+
 /// Retries from `candidates` (the first `options.retries`), stopping at the first that passes.
 void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
                    const AttemptFrom& attempt, const VerdictFrom& verdict);

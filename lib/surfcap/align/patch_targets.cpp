@@ -1,11 +1,18 @@
 #include "surfcap/align/patch_targets.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numbers>
+#include <utility>
+#include <vector>
 
 #include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/align/pairwise_checks.hpp"
 
 namespace surfcap::align {
 
@@ -94,26 +101,189 @@ RigidFit PatchTargets::fit_patch(std::size_t level, const std::vector<int>& memb
   return fit;
 }
 
+namespace {
+
+/// Mean over `points` (unit normals `point_normals`) of the distance to their compatible closest
+/// points on the target, a point without one counting as the gate: how well a rigid placement
+/// lies on the reconstruction, facing the way it does.
+double compatible_distance(const Eigen::MatrixXd& points, const Eigen::MatrixXd& point_normals,
+                           const geometry::SurfaceQuery& target, const IcpOptions& icp) {
+  double sum = 0;
+  for (long i = 0; i < points.rows(); ++i) {
+    geometry::SurfacePoint closest;
+    sum += compatible_closest_point(target, points.row(i).transpose(), point_normals.row(i).transpose(),
+                                    icp.max_distance, icp.normal_compatibility, closest)
+               ? closest.distance
+               : icp.max_distance;
+  }
+  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : icp.max_distance;
+}
+
+/// `outer` after `inner`.
+RigidFit compose(const RigidFit& outer, const RigidFit& inner) {
+  RigidFit c;
+  c.rotation = outer.rotation * inner.rotation;
+  c.translation = outer.rotation * inner.translation + outer.translation;
+  return c;
+}
+
+}  // namespace
+
+/// The fits of one level's patches and where they put the template (accepted patches moved, the
+/// others where they are), with the stacked vertices of that placement counted per patch.
+struct PatchTargets::LevelFits {
+  std::vector<std::vector<int>> members;  ///< per patch: its vertices that are fitted
+  std::vector<RigidFit> fits;
+  std::vector<char> accepted;
+  std::vector<long> stacked;  ///< per patch: its vertices in stacked layers of the placement
+  long stacked_total = 0;
+};
+
+void PatchTargets::count_stacked(std::size_t level, const Eigen::MatrixXd& surface, LevelFits& level_fits) const {
+  const PatchSet& set = model_.patches()[level];
+  const long n = static_cast<long>(set.label.size());
+  Eigen::MatrixXd placed = surface.topRows(n);
+  for (std::size_t p = 0; p < level_fits.members.size(); ++p)
+    if (level_fits.accepted[p])
+      for (const int v : level_fits.members[p]) placed.row(v) = level_fits.fits[p].apply(surface.row(v).transpose()).transpose();
+  const std::vector<char> stacked =
+      stacked_vertices(model_.mesh().V.topRows(n), placed, model_.mesh().F,
+                       options_.checks.stacked_distance_edges * model_.mean_edge(),
+                       options_.checks.stacked_rest_distance_height * model_.height());
+  level_fits.stacked.assign(level_fits.members.size(), 0);
+  level_fits.stacked_total = 0;
+  for (long v = 0; v < n; ++v)
+    if (stacked[static_cast<std::size_t>(v)]) {
+      ++level_fits.stacked[static_cast<std::size_t>(set.label[static_cast<std::size_t>(v)])];
+      ++level_fits.stacked_total;
+    }
+}
+
+void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
+                          const IcpOptions& icp, LevelFits& level_fits, PairwiseResult& result) const {
+  const PatchSet& set = model_.patches()[level];
+  const int count = set.count();
+  // Per patch, its vertices on the boundary with each neighbouring patch (the joints).
+  std::vector<std::map<int, std::vector<int>>> joints(static_cast<std::size_t>(count));
+  const Eigen::MatrixXi& F = model_.mesh().F;
+  const long n = static_cast<long>(set.label.size());
+  for (long f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      if (a >= n || b >= n) continue;
+      const int pa = set.label[static_cast<std::size_t>(a)], pb = set.label[static_cast<std::size_t>(b)];
+      if (pa != pb) joints[static_cast<std::size_t>(pa)][pb].push_back(a);
+    }
+  for (auto& patch_joints : joints)
+    for (auto& [neighbour, vertices] : patch_joints) {
+      std::sort(vertices.begin(), vertices.end());
+      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    }
+  IcpOptions screening = icp;
+  screening.iterations = std::min(icp.iterations, kHingeScreeningIterations);
+  for (int pass = 0; pass < kHingePasses; ++pass) {
+    bool changed = false;
+    for (int p = 0; p < count; ++p) {
+      const std::vector<int>& list = level_fits.members[static_cast<std::size_t>(p)];
+      if (list.size() < 8 ||
+          static_cast<double>(level_fits.stacked[static_cast<std::size_t>(p)]) < kFoldedShare * static_cast<double>(list.size()))
+        continue;
+      const Eigen::MatrixXd points = rows_of(surface, list), point_normals = rows_of(normals, list);
+      const RigidFit own = level_fits.fits[static_cast<std::size_t>(p)];
+      const double own_distance =
+          compatible_distance(transformed(points, own), point_normals * own.rotation.transpose(), target_, icp);
+      // Starts ranked on a sparse sample of the patch, the best few fitted on with all of it.
+      const long step = std::max<long>(1, static_cast<long>(list.size()) / kHingeSample);
+      const long sparse_count = (static_cast<long>(list.size()) + step - 1) / step;
+      Eigen::MatrixXd sparse(sparse_count, 3), sparse_normals(sparse_count, 3);
+      for (long i = 0; i < sparse_count; ++i) {
+        sparse.row(i) = points.row(i * step);
+        sparse_normals.row(i) = point_normals.row(i * step);
+      }
+      const Eigen::Vector3d centre = points.colwise().mean().transpose();
+      std::vector<std::pair<double, RigidFit>> starts;
+      for (const auto& [neighbour, joint_vertices] : joints[static_cast<std::size_t>(p)]) {
+        if (!level_fits.accepted[static_cast<std::size_t>(neighbour)] || joint_vertices.size() < 3) continue;
+        const RigidFit& carried = level_fits.fits[static_cast<std::size_t>(neighbour)];
+        Eigen::Vector3d joint = Eigen::Vector3d::Zero();
+        for (const int v : joint_vertices) joint += surface.row(v).transpose();
+        joint /= static_cast<double>(joint_vertices.size());
+        const Eigen::Vector3d bone = centre - joint;
+        if (bone.norm() <= 0) continue;
+        const Eigen::Vector3d along = bone.normalized(), u = along.unitOrthogonal(), w = along.cross(u);
+        const Eigen::Vector3d hinge = carried.apply(joint);
+        for (int k = 0; k < kHingeAxes; ++k) {
+          const double phi = std::numbers::pi * k / kHingeAxes;
+          const Eigen::Vector3d axis = carried.rotation * (std::cos(phi) * u + std::sin(phi) * w);
+          for (const double degrees : {-135.0, -90.0, -45.0, 45.0, 90.0, 135.0}) {
+            RigidFit bend;
+            bend.rotation = Eigen::AngleAxisd(degrees * std::numbers::pi / 180, axis).toRotationMatrix();
+            bend.translation = hinge - bend.rotation * hinge;
+            const RigidFit fit = fit_rigid(sparse, sparse_normals, target_, screening, compose(bend, carried));
+            starts.emplace_back(
+                compatible_distance(transformed(sparse, fit), sparse_normals * fit.rotation.transpose(), target_, icp), fit);
+          }
+        }
+      }
+      // Ties keep the earlier start (stable order): deterministic.
+      std::stable_sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      IcpOptions rest = icp;
+      rest.iterations = icp.iterations - screening.iterations;
+      for (std::size_t k = 0; k < std::min<std::size_t>(kHingeFinalists, starts.size()); ++k) {
+        const RigidFit fit =
+            rest.iterations > 0 ? fit_rigid(points, point_normals, target_, rest, starts[k].second) : starts[k].second;
+        const double distance =
+            compatible_distance(transformed(points, fit), point_normals * fit.rotation.transpose(), target_, icp);
+        if (!(distance < options_.prediction.gain * own_distance) ||
+            fit.inliers < level_fits.fits[static_cast<std::size_t>(p)].inliers)
+          continue;
+        // Taken only when it unfolds: fewer stacked vertices over the whole placement.
+        LevelFits trial = level_fits;
+        trial.fits[static_cast<std::size_t>(p)] = fit;
+        trial.accepted[static_cast<std::size_t>(p)] =
+            static_cast<double>(fit.inliers) >= options_.min_patch_inliers * static_cast<double>(list.size());
+        count_stacked(level, surface, trial);
+        if (trial.stacked_total >= level_fits.stacked_total) continue;
+        if (!level_fits.accepted[static_cast<std::size_t>(p)] && trial.accepted[static_cast<std::size_t>(p)])
+          ++result.accepted_patches;
+        level_fits = std::move(trial);
+        ++result.hinged_patches;
+        changed = true;
+        break;
+      }
+    }
+    if (!changed) break;
+  }
+}
+
 void PatchTargets::add(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd* predicted,
                        TargetSet& targets, PairwiseResult& result) const {
   const Eigen::MatrixXd normals = core::vertex_normals(surface, model_.mesh().F);
   const IcpOptions settings = icp(level);
-  std::vector<int> observed_members;
-  for (const auto& patch : model_.patches()[level].vertices) {
-    const std::vector<int>* members = &patch;
-    if (model_.closed_by_fill()) {
-      observed_members.clear();
-      for (const int v : patch)
-        if (model_.observed_vertex(v)) observed_members.push_back(v);
-      members = &observed_members;
-    }
+  const PatchSet& set = model_.patches()[level];
+  LevelFits level_fits;
+  level_fits.members.resize(static_cast<std::size_t>(set.count()));
+  level_fits.fits.resize(level_fits.members.size());
+  level_fits.accepted.assign(level_fits.members.size(), 0);
+  for (std::size_t p = 0; p < level_fits.members.size(); ++p) {
+    std::vector<int>& list = level_fits.members[p];
+    for (const int v : set.vertices[p])
+      if (!model_.closed_by_fill() || model_.observed_vertex(v)) list.push_back(v);
     ++result.total_patches;
-    if (members->empty()) continue;
-    const RigidFit fit = fit_patch(level, *members, surface, normals, predicted, settings, result);
-    if (static_cast<double>(fit.inliers) < options_.min_patch_inliers * static_cast<double>(members->size())) continue;
-    ++result.accepted_patches;
-    for (const int v : *members) {
-      const Eigen::Vector3d goal = fit.apply(surface.row(v).transpose());
+    if (list.empty()) continue;
+    level_fits.fits[p] = fit_patch(level, list, surface, normals, predicted, settings, result);
+    level_fits.accepted[p] =
+        static_cast<double>(level_fits.fits[p].inliers) >= options_.min_patch_inliers * static_cast<double>(list.size());
+    if (level_fits.accepted[p]) ++result.accepted_patches;
+  }
+  if (level == 0 && options_.unfold) {
+    count_stacked(level, surface, level_fits);
+    if (level_fits.stacked_total > 0) unfold(level, surface, normals, settings, level_fits, result);
+  }
+  for (std::size_t p = 0; p < level_fits.members.size(); ++p) {
+    if (!level_fits.accepted[p]) continue;
+    for (const int v : level_fits.members[p]) {
+      const Eigen::Vector3d goal = level_fits.fits[p].apply(surface.row(v).transpose());
       if (observed_.partial()) {
         const auto closest = target_.closest_point_within(goal, settings.max_distance);
         if (closest && !observed_.observed(*closest)) continue;

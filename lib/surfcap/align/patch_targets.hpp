@@ -5,7 +5,12 @@
 // or correspondence kinds, and a model selection per patch keeps the better fit: colour-aware
 // correspondences (when both meshes have colours) and the motion-predicted pose (when given).
 // Only the template's observed vertices are fitted and targeted, and a fitted vertex whose closest
-// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target.
+// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target. At the coarsest
+// level a patch whose fit folds it onto another part of the template (stacked layers,
+// pairwise_checks.hpp: a forearm laid on its upper arm where the child bends the elbow farther
+// than the gate reaches) is searched for about its joints: carried by each fitted neighbour and
+// bent about the boundary it shares with it, the fit taken when it lies clearly closer to the
+// reconstruction with no fewer matches and unfolds the template.
 
 #include <Eigen/Core>
 
@@ -53,6 +58,7 @@ struct PatchColorOptions {
 /// Motion prediction (when align_pair is given a predicted surface): at the coarsest `levels`
 /// levels each patch is also fitted from its predicted pose; that fit is taken when its clamped
 /// mean distance to the reconstruction is below `gain` × the other fit's, with no fewer inliers.
+/// The same gain decides whether a hinged start of a folded patch lies clearly closer.
 struct PredictionOptions {
   int levels = 1;
   double gain = 0.8;
@@ -60,7 +66,7 @@ struct PredictionOptions {
   template <class Self, class Table>
   static void table(Self& self, Table& t) {
     t.field("levels", self.levels, "Patch levels that also try the motion-predicted start", core::Range::at_least(0));
-    t.field("gain", self.gain, "Predicted patch fit used when its mean distance is below this fraction of the other fit's",
+    t.field("gain", self.gain, "Predicted (or a folded patch's hinged) fit used when its mean distance is below this fraction of the other fit's",
             core::Range::above_to(0, 1));
   }
 };
@@ -87,6 +93,22 @@ class PatchTargets {
            PairwiseResult& result) const;
 
  private:
+  struct LevelFits;
+  /// Counts the stacked vertices, per patch, of the template placed by `level_fits`.
+  void count_stacked(std::size_t level, const Eigen::MatrixXd& surface, LevelFits& level_fits) const;
+  /// The hinge search for the patches folded onto another part (at least kFoldedShare of their
+  /// vertices stacked): starts at each neighbour's fit bent about their joint by ±45°, ±90°,
+  /// ±135° about kHingeAxes axes across the patch's bone, ranked with short fits of a sparse
+  /// sample, the best kHingeFinalists fitted on.
+  void unfold(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals, const IcpOptions& icp,
+              LevelFits& level_fits, PairwiseResult& result) const;
+  static constexpr double kFoldedShare = 0.01;
+  static constexpr int kHingeAxes = 4;
+  static constexpr int kHingeSample = 64;
+  static constexpr int kHingeScreeningIterations = 3;
+  static constexpr std::size_t kHingeFinalists = 3;
+  static constexpr int kHingePasses = 2;
+
   /// The fit of one patch: closest points, then the colour-aware and predicted alternatives.
   RigidFit fit_patch(std::size_t level, const std::vector<int>& members, const Eigen::MatrixXd& surface,
                      const Eigen::MatrixXd& normals, const Eigen::MatrixXd* predicted, const IcpOptions& icp,

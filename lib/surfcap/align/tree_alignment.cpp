@@ -129,7 +129,12 @@ class EdgeAlignment {
     const auto usable = [this](long other) { return usable_parent(other); };
     const auto attempt_from = [this](long from) { return attempt(from); };
     const auto verdict_from = [this](const PairwiseResult& r, long from) { return verdict(r, from); };
-    if (!record_.failed_attempts.empty() && costs != nullptr)
+    // A fold of the template onto itself is first aligned again from the same parent with the
+    // coarsest patches searched about their joints (patch_targets.hpp).
+    if (kept.result && kept.verdict == Verdict::failed &&
+        kept.result->stacked_fraction > state_.options.failure.max_stacked)
+      keep_better(kept, attempt(edge_.parent, true), edge_.parent, verdict_from);
+    if (kept.verdict != Verdict::pass && !record_.failed_attempts.empty() && costs != nullptr)
       retry_parents(kept, candidate_parents(*costs, edge_.child, edge_.parent, state_.nodes, usable, false),
                     state_.options.recovery, attempt_from, verdict_from);
     if (kept.result && record_.failed_attempts.empty() && state_.options.recovery.entry_candidates > 0 &&
@@ -187,7 +192,7 @@ class EdgeAlignment {
   }
 
   /// One attempt from `from`; nullopt (and a record of why) if it throws, recorded if it fits badly.
-  std::optional<PairwiseResult> attempt(long from) {
+  std::optional<PairwiseResult> attempt(long from, bool unfold = false) {
     std::shared_ptr<const FrameFeatures> other;
     const FeaturePair pair = feature_pair(from, other);
     try {
@@ -196,7 +201,9 @@ class EdgeAlignment {
       const Eigen::MatrixXd predicted = state_.predictor.predict(
           edge_.child, from, grand, parent, grand >= 0 ? state_.positions[static_cast<std::size_t>(grand)] : parent,
           state_.model, query_, state_.options.pairwise);
-      PairwiseResult result = align_pair(state_.model, parent, query_, state_.options.pairwise,
+      PairwiseOptions options = state_.options.pairwise;
+      options.unfold = unfold;
+      PairwiseResult result = align_pair(state_.model, parent, query_, options,
                                          target_.has_colors() ? &target_.colors : nullptr, pair,
                                          predicted.rows() > 0 ? &predicted : nullptr);
       if (verdict(result, from) == Verdict::pass) return result;

@@ -73,7 +73,8 @@ core::Json alignment_figures(const align::Registration& registration) {
   double mean_sum = 0, worst = 0;
   long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
   int max_depth = 0;
-  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0, frames_with_holes = 0;
+  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0, hinged_patches = 0,
+       frames_with_holes = 0;
   double most_unobserved = 0;
   for (const auto& record : registration.frames) {
     const auto& a = record.alignment;
@@ -103,6 +104,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                       {"color_patches", a.color_patches},
                       {"predicted", a.predicted},
                       {"predicted_patches", a.predicted_patches},
+                      {"hinged_patches", a.hinged_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
                       {"image_features", record.features},
@@ -122,6 +124,7 @@ core::Json alignment_figures(const align::Registration& registration) {
     max_depth = std::max(max_depth, record.depth);
     predicted_frames += a.predicted ? 1 : 0;
     predicted_patches += a.predicted_patches;
+    hinged_patches += a.hinged_patches;
     frames_with_holes += a.holes > 0 ? 1 : 0;
     most_unobserved = std::max(most_unobserved, a.unobserved_fraction);
   }
@@ -135,6 +138,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"frames_unrecovered", unrecovered},
                        {"frames_predicted", predicted_frames},
                        {"predicted_patches", predicted_patches},
+                       {"hinged_patches", hinged_patches},
                        {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature},
                                            {"coverage", coverage}, {"flow", flow}}},
                        {"deformer", registration.deformer_model},
