@@ -5,12 +5,13 @@
 // or correspondence kinds, and a model selection per patch keeps the better fit: colour-aware
 // correspondences (when both meshes have colours) and the motion-predicted pose (when given).
 // Only the template's observed vertices are fitted and targeted, and a fitted vertex whose closest
-// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target. At the coarsest
-// level a patch whose fit folds it onto another part of the template (stacked layers,
-// pairwise_checks.hpp: a forearm laid on its upper arm where the child bends the elbow farther
-// than the gate reaches) is searched for about its joints: carried by each fitted neighbour and
-// bent about the boundary it shares with it, the fit taken when it lies clearly closer to the
-// reconstruction with no fewer matches and unfolds the template.
+// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target. When asked
+// (PairwiseOptions::unfold, a folded frame's second attempt), at the coarsest level a patch whose
+// fit folds it onto another part of the template (stacked layers, pairwise_checks.hpp: a forearm
+// laid on its upper arm where the child bends the elbow farther than the gate reaches) is searched
+// for about its joints: carried by each fitted neighbour and bent about the boundary it shares
+// with it, the fit taken when it lies clearly closer to the reconstruction with no fewer matches
+// and unfolds the template.
 
 #include <Eigen/Core>
 
@@ -66,7 +67,9 @@ struct PredictionOptions {
   template <class Self, class Table>
   static void table(Self& self, Table& t) {
     t.field("levels", self.levels, "Patch levels that also try the motion-predicted start", core::Range::at_least(0));
-    t.field("gain", self.gain, "Predicted (or a folded patch's hinged) fit used when its mean distance is below this fraction of the other fit's",
+    t.field("gain", self.gain,
+            "Predicted (or a folded patch's hinged) fit used when its mean distance is below this fraction of the "
+            "other fit's",
             core::Range::above_to(0, 1));
   }
 };
