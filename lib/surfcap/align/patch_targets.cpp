@@ -238,15 +238,23 @@ void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, con
             fit.inliers < level_fits.fits[static_cast<std::size_t>(p)].inliers)
           continue;
         // Taken only when it unfolds: fewer stacked vertices over the whole placement.
-        LevelFits trial = level_fits;
-        trial.fits[static_cast<std::size_t>(p)] = fit;
-        trial.accepted[static_cast<std::size_t>(p)] =
+        const std::size_t at = static_cast<std::size_t>(p);
+        const RigidFit previous_fit = level_fits.fits[at];
+        const char previous_accepted = level_fits.accepted[at];
+        const std::vector<long> previous_stacked = level_fits.stacked;
+        const long previous_total = level_fits.stacked_total;
+        level_fits.fits[at] = fit;
+        level_fits.accepted[at] =
             static_cast<double>(fit.inliers) >= options_.min_patch_inliers * static_cast<double>(list.size());
-        count_stacked(level, surface, trial);
-        if (trial.stacked_total >= level_fits.stacked_total) continue;
-        if (!level_fits.accepted[static_cast<std::size_t>(p)] && trial.accepted[static_cast<std::size_t>(p)])
-          ++result.accepted_patches;
-        level_fits = std::move(trial);
+        count_stacked(level, surface, level_fits);
+        if (level_fits.stacked_total >= previous_total) {
+          level_fits.fits[at] = previous_fit;
+          level_fits.accepted[at] = previous_accepted;
+          level_fits.stacked = previous_stacked;
+          level_fits.stacked_total = previous_total;
+          continue;
+        }
+        if (!previous_accepted && level_fits.accepted[at]) ++result.accepted_patches;
         ++result.hinged_patches;
         changed = true;
         break;
