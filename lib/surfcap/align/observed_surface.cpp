@@ -10,9 +10,7 @@
 #include "surfcap/geometry/mean_edge_length.hpp"
 
 namespace surfcap::align {
-namespace {
 
-/// Per vertex, the share of the faces in its piece (pieces connected through shared vertices).
 Eigen::VectorXd piece_shares(long n, const Eigen::MatrixXi& F, long& pieces_below, double share) {
   std::vector<long> parent(static_cast<std::size_t>(n));
   std::iota(parent.begin(), parent.end(), 0L);
@@ -38,8 +36,6 @@ Eigen::VectorXd piece_shares(long n, const Eigen::MatrixXi& F, long& pieces_belo
     shares(v) = static_cast<double>(faces[static_cast<std::size_t>(find(v))]) / static_cast<double>(std::max<long>(1, F.rows()));
   return shares;
 }
-
-}  // namespace
 
 ObservedSurface::ObservedSurface(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) : F_(F) {
   core::Mesh mesh;

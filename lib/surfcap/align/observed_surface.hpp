@@ -23,6 +23,10 @@ inline constexpr double kBoundaryBandEdges = 1.5;
 /// A piece of the reconstruction with fewer than this share of its faces is not observed surface.
 inline constexpr double kSmallPieceShare = 0.02;
 
+/// Per vertex of a surface with n vertices and faces F, the share of the faces in its piece (pieces
+/// connected through shared vertices); `pieces_below` receives the number of pieces under `share`.
+Eigen::VectorXd piece_shares(long n, const Eigen::MatrixXi& F, long& pieces_below, double share);
+
 class ObservedSurface {
  public:
   /// Of the reconstruction (V n×3, F m×3; edge-manifold, as read_reconstruction returns it).

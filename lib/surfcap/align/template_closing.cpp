@@ -14,6 +14,7 @@
 #include <limits>
 #include <vector>
 
+#include "surfcap/align/observed_surface.hpp"
 #include "surfcap/core/error.hpp"
 
 namespace surfcap::align {
@@ -35,6 +36,42 @@ SurfaceMesh surface_of(const core::Mesh& mesh) {
   return surface;
 }
 
+/// `mesh` without its small pieces (observed_surface.hpp: the child's side leaves them unobserved);
+/// records them in `result`.
+core::Mesh without_loose_pieces(core::Mesh mesh, TemplateSurface& result) {
+  const long n = mesh.vertex_count();
+  long small = 0;
+  const Eigen::VectorXd shares = piece_shares(n, mesh.F, small, kSmallPieceShare);
+  if (n == 0 || shares.maxCoeff() < kSmallPieceShare) return mesh;  // all in shards: none is the body
+  result.loose_pieces = small;
+  std::vector<long> index(static_cast<std::size_t>(n), -1);
+  long kept = 0;
+  for (long v = 0; v < n; ++v) {
+    if (shares(v) >= kSmallPieceShare) index[static_cast<std::size_t>(v)] = kept++;
+    else result.dropped_vertices.push_back(v);
+  }
+  if (result.dropped_vertices.empty()) return mesh;
+  core::Mesh out;
+  out.V.resize(kept, 3);
+  if (mesh.has_colors()) out.colors.resize(kept, mesh.colors.cols());
+  if (mesh.has_uvs()) out.uvs.resize(kept, mesh.uvs.cols());
+  for (long v = 0; v < n; ++v) {
+    const long to = index[static_cast<std::size_t>(v)];
+    if (to < 0) continue;
+    out.V.row(to) = mesh.V.row(v);
+    if (mesh.has_colors()) out.colors.row(to) = mesh.colors.row(v);
+    if (mesh.has_uvs()) out.uvs.row(to) = mesh.uvs.row(v);
+  }
+  std::vector<long> faces;
+  for (long f = 0; f < mesh.face_count(); ++f)
+    if (index[static_cast<std::size_t>(mesh.F(f, 0))] >= 0) faces.push_back(f);
+  out.F.resize(static_cast<long>(faces.size()), 3);
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      out.F(static_cast<long>(i), k) = static_cast<int>(index[static_cast<std::size_t>(mesh.F(faces[i], k))]);
+  return out;
+}
+
 /// The rim vertex nearest to `p` (for the new vertices' colours and texture coordinates).
 long nearest_rim_vertex(const SurfaceMesh& surface, const std::vector<VertexIndex>& rim, const Kernel::Point_3& p) {
   long best = -1;
@@ -48,8 +85,9 @@ long nearest_rim_vertex(const SurfaceMesh& surface, const std::vector<VertexInde
 
 }  // namespace
 
-TemplateSurface close_template(core::Mesh reconstruction) {
+TemplateSurface close_template(core::Mesh input) {
   TemplateSurface result;
+  core::Mesh reconstruction = without_loose_pieces(std::move(input), result);
   result.observed_vertices = reconstruction.vertex_count();
   result.observed_faces = reconstruction.face_count();
   SurfaceMesh surface = surface_of(reconstruction);

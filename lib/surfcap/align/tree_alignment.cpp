@@ -425,10 +425,14 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   registration.volume_vertices = m.model->deformer().vertex_count();
   registration.elements = m.model->deformer().element_count();
   registration.template_observed_vertices = m.template_surface.observed_vertices;
+  registration.template_dropped_vertices = m.template_surface.dropped_vertices;
   spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
                capture.sequences[static_cast<std::size_t>(m.root.sequence)].name, m.root.frame,
                template_mesh.vertex_count(), registration.deformer_model, registration.volume_vertices,
                registration.elements);
+  if (m.template_surface.loose_pieces > 0)
+    spdlog::info("template: {} loose pieces of the root reconstruction left out ({} vertices)",
+                 m.template_surface.loose_pieces, m.template_surface.dropped_vertices.size());
   if (m.template_surface.holes > 0)
     spdlog::info("template: {} holes of the root reconstruction closed; {:.1f} % of the template is unobserved",
                  m.template_surface.holes, 100 * m.model->unobserved_fraction());
@@ -522,8 +526,10 @@ Registration assemble_registration(const core::Capture& capture, const similarit
                                    const Registration& summary) {
   const std::vector<NodeFrame> nodes = node_frames(capture, frames);
   const NodeFrame root = nodes.at(static_cast<std::size_t>(tree.root));
-  const core::Mesh template_mesh = close_template(read_reconstruction(capture, root)).mesh;
+  const TemplateSurface template_surface = close_template(read_reconstruction(capture, root));
+  const core::Mesh& template_mesh = template_surface.mesh;
   Registration registration = summary;  // the template's figures; frames and positions from the parts
+  registration.template_dropped_vertices = template_surface.dropped_vertices;
   registration.frames.assign(nodes.size(), FrameRecord{});
   registration.world_positions.assign(nodes.size(), Eigen::MatrixXd{});
   std::vector<char> seen(nodes.size(), 0);

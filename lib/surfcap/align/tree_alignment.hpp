@@ -100,6 +100,8 @@ struct Registration {
   /// The first this many template vertices are the root reconstruction's, the rest close its holes
   /// (template_closing.hpp).
   long template_observed_vertices = 0;
+  /// The root reconstruction's vertices not in the template (its loose pieces; TemplateSurface).
+  std::vector<long> template_dropped_vertices;
 };
 
 /// All deformer vertices (surface + interior) for a posed template surface (n×3): the rest volume

@@ -148,6 +148,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"appearance_coverage", registration.appearance_coverage},
                        {"frames_with_holes", frames_with_holes},
                        {"template_unobserved_fraction", template_unobserved_fraction(registration)},
+                       {"template_dropped_vertices", registration.template_dropped_vertices.size()},
                        {"max_unobserved_fraction", most_unobserved}}}};
 }
 

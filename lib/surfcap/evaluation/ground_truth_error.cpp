@@ -19,7 +19,7 @@ std::optional<std::filesystem::path> ground_truth_file(const core::Capture& capt
 }
 
 TruthReference::TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned,
-                               long observed_vertices)
+                               long observed_vertices, const std::vector<long>& dropped_vertices)
     : capture_(capture) {
   const auto truth_path = ground_truth_file(capture);
   if (!truth_path) throw core::bad_input(capture.folder, "has no ground_truth/truth.json");
@@ -39,10 +39,26 @@ TruthReference::TruthReference(const core::Capture& capture, const core::Aligned
                                                           aligned.root_frame);
   const long n = observed_vertices < 0 ? aligned.template_mesh.vertex_count()
                                        : std::min(observed_vertices, aligned.template_mesh.vertex_count());
-  const core::NpyArray faces = core::read_npy(face_path, core::DType::int32, {n});
-  barycentric_ = core::read_npy_matrix(bary_path, n, 3);
+  // Template vertex v is the root reconstruction's vertex source[v].
+  const long root_count = n + static_cast<long>(dropped_vertices.size());
+  std::vector<long> source;
+  std::size_t next_dropped = 0;
+  for (long r = 0; r < root_count; ++r) {
+    if (next_dropped < dropped_vertices.size() && dropped_vertices[next_dropped] == r) ++next_dropped;
+    else source.push_back(r);
+  }
+  if (static_cast<long>(source.size()) != n)
+    throw core::internal_error("TruthReference: the template's dropped vertices are not ascending root vertices");
+  const core::NpyArray faces = core::read_npy(face_path, core::DType::int32, {root_count});
+  const Eigen::MatrixXd root_barycentric = core::read_npy_matrix(bary_path, root_count, 3);
+  barycentric_.resize(n, 3);
+  faces_.resize(static_cast<std::size_t>(n));
+  for (long v = 0; v < n; ++v) {
+    const long r = source[static_cast<std::size_t>(v)];
+    barycentric_.row(v) = root_barycentric.row(r);
+    faces_[static_cast<std::size_t>(v)] = faces.data<std::int32_t>()[r];
+  }
   const Eigen::MatrixXi& true_F = truth_.template_mesh.F;
-  faces_.assign(faces.data<std::int32_t>(), faces.data<std::int32_t>() + n);
   for (long v = 0; v < n; ++v)
     if (faces_[static_cast<std::size_t>(v)] < 0 || faces_[static_cast<std::size_t>(v)] >= true_F.rows())
       throw core::bad_input(face_path, "face index out of range at vertex " + std::to_string(v));
@@ -52,11 +68,11 @@ TruthReference::TruthReference(const core::Capture& capture, const core::Aligned
   if (root_entry.contains("correspondence_status") && truth.contains("status_codes")) {
     const auto status_path = truth_dir / core::expand_pattern(root_entry.at("correspondence_status").get<std::string>(),
                                                               aligned.root_frame);
-    const core::NpyArray status = core::read_npy(status_path, core::DType::uint8, {n});
+    const core::NpyArray status = core::read_npy(status_path, core::DType::uint8, {root_count});
     const auto& codes = truth.at("status_codes");
     const int on_surface = codes.at("on_surface").get<int>(), rough = codes.value("rough", on_surface);
     for (long v = 0; v < n; ++v) {
-      const int code = status.data<std::uint8_t>()[v];
+      const int code = status.data<std::uint8_t>()[source[static_cast<std::size_t>(v)]];
       evaluated_[static_cast<std::size_t>(v)] = code == on_surface || code == rough ? 1 : 0;
     }
   }
@@ -286,7 +302,9 @@ TruthEvaluation evaluate_against_truth(const TruthReference& truth, const align:
 
 TruthEvaluation evaluate_against_truth(const core::Capture& capture, const align::Registration& registration) {
   return evaluate_against_truth(
-      TruthReference(capture, registration.database, registration.template_observed_vertices), registration);
+      TruthReference(capture, registration.database, registration.template_observed_vertices,
+                     registration.template_dropped_vertices),
+      registration);
 }
 
 core::Json TruthEvaluation::to_json(const align::Registration& registration) const {

@@ -27,8 +27,10 @@ class TruthReference {
  public:
   /// Reads <capture>/ground_truth/truth.json, the true database and the root's correspondence;
   /// bad_input if they are incomplete. The first `observed_vertices` template vertices are the
-  /// root reconstruction's (< 0: all of them).
-  TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned, long observed_vertices = -1);
+  /// root reconstruction's (< 0: all of them) but its `dropped_vertices` (ascending: the loose
+  /// pieces the template leaves out), in order.
+  TruthReference(const core::Capture& capture, const core::AlignedDatabase& aligned, long observed_vertices = -1,
+                 const std::vector<long>& dropped_vertices = {});
   /// Template vertices with a true location (the root reconstruction's, first in the template).
   long vertex_count() const { return barycentric_.rows(); }
   /// Is template vertex v evaluated: on the true surface (status on_surface or rough; every

@@ -64,7 +64,8 @@ void write_registration(const std::filesystem::path& out, const RegisterInputs& 
 void evaluate(const std::filesystem::path& out, const core::Capture& capture, const align::Registration& registration,
               const ReportOptions& options, core::StageReport& report) {
   auto timer = report.time("ground_truth_error");
-  const TruthReference truth(capture, registration.database, registration.template_observed_vertices);
+  const TruthReference truth(capture, registration.database, registration.template_observed_vertices,
+                             registration.template_dropped_vertices);
   const TruthEvaluation evaluation = evaluate_against_truth(truth, registration);
   auto& figures = report.figures();
   figures["ground_truth"] = evaluation.to_json(registration);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/dense_targets.hpp"
@@ -119,6 +121,49 @@ TEST(TemplateClosing, AFairedPatchClosesTheHoleAndKeepsTheObservedVertices) {
   EXPECT_EQ(same.holes, 0);
   EXPECT_EQ(same.mesh.V, sphere.V);
   EXPECT_EQ(same.mesh.F, sphere.F);
+}
+
+/// The pieces side by side in one mesh, each moved by its offset, with a colour per piece.
+core::Mesh side_by_side(const std::vector<std::pair<core::Mesh, Eigen::RowVector3d>>& pieces) {
+  core::Mesh all;
+  long vertices = 0, faces = 0;
+  for (const auto& [mesh, offset] : pieces) vertices += mesh.V.rows(), faces += mesh.F.rows();
+  all.V.resize(vertices, 3);
+  all.colors.resize(vertices, 3);
+  all.F.resize(faces, 3);
+  long v0 = 0, f0 = 0;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const auto& [mesh, offset] = pieces[k];
+    all.V.middleRows(v0, mesh.V.rows()) = mesh.V.rowwise() + offset;
+    all.colors.middleRows(v0, mesh.V.rows()).setConstant(static_cast<double>(k) / 4);
+    all.F.middleRows(f0, mesh.F.rows()) = (mesh.F.array() + static_cast<int>(v0)).matrix();
+    v0 += mesh.V.rows(), f0 += mesh.F.rows();
+  }
+  return all;
+}
+
+TEST(TemplateClosing, ASmallLoosePieceIsLeftOutAndTheOthersKeepTheirOrder) {
+  const core::Mesh blob = testing::make_sphere(3, 4, 0.05);     // 8 faces: under 2 % of the whole's
+  const core::Mesh body = compacted(cut_sphere(24, 48, 0.7));  // open: its hole is closed after
+  const core::Mesh hand = testing::make_sphere(6, 12, 0.3);     // 7 % of the faces: kept
+  const core::Mesh reconstruction = side_by_side(
+      {{blob, Eigen::RowVector3d(0, 1.6, 0)}, {body, Eigen::RowVector3d::Zero()}, {hand, Eigen::RowVector3d(2, 0, 0)}});
+  const TemplateSurface closed = close_template(reconstruction);
+  EXPECT_EQ(closed.loose_pieces, 1);
+  ASSERT_EQ(static_cast<long>(closed.dropped_vertices.size()), blob.vertex_count());
+  for (long v = 0; v < blob.vertex_count(); ++v) EXPECT_EQ(closed.dropped_vertices[static_cast<std::size_t>(v)], v);
+  const long kept = body.vertex_count() + hand.vertex_count();
+  EXPECT_EQ(closed.observed_vertices, kept);
+  EXPECT_EQ(closed.observed_faces, body.face_count() + hand.face_count());
+  EXPECT_EQ(closed.holes, 1);
+  // The kept pieces' vertices and colours, in their order, then the closing surface's.
+  EXPECT_EQ(closed.mesh.V.topRows(kept), reconstruction.V.bottomRows(kept));
+  EXPECT_EQ(closed.mesh.colors.topRows(kept), reconstruction.colors.bottomRows(kept));
+  const core::MeshCheck check = core::check_mesh(closed.mesh);
+  EXPECT_TRUE(check.closed());
+  EXPECT_TRUE(check.manifold());
+  EXPECT_EQ(check.unreferenced_vertices, 0);
+  for (long v = 0; v < closed.mesh.vertex_count(); ++v) EXPECT_LT(closed.mesh.V(v, 1), 1.3);  // nothing of the blob
 }
 
 TEST(DenseTargets, NoTargetOnTheClosingSurfaceNorOnAHolesRim) {
