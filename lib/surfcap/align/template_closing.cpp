@@ -16,6 +16,7 @@
 
 #include "surfcap/align/observed_surface.hpp"
 #include "surfcap/core/error.hpp"
+#include "surfcap/geometry/mesh_topology.hpp"
 
 namespace surfcap::align {
 namespace {
@@ -44,31 +45,23 @@ core::Mesh without_loose_pieces(core::Mesh mesh, TemplateSurface& result) {
   const Eigen::VectorXd shares = piece_shares(n, mesh.F, small, kSmallPieceShare);
   if (n == 0 || shares.maxCoeff() < kSmallPieceShare) return mesh;  // all in shards: none is the body
   result.loose_pieces = small;
-  std::vector<long> index(static_cast<std::size_t>(n), -1);
-  long kept = 0;
+  std::vector<int> kept;
   for (long v = 0; v < n; ++v) {
-    if (shares(v) >= kSmallPieceShare) index[static_cast<std::size_t>(v)] = kept++;
+    if (shares(v) >= kSmallPieceShare) kept.push_back(static_cast<int>(v));
     else result.dropped_vertices.push_back(v);
   }
   if (result.dropped_vertices.empty()) return mesh;
+  const geometry::Submesh sub = geometry::extract_submesh(mesh.F, n, kept);
+  const auto rows = [&](const Eigen::MatrixXd& values) {
+    Eigen::MatrixXd picked(static_cast<long>(kept.size()), values.cols());
+    for (std::size_t i = 0; i < kept.size(); ++i) picked.row(static_cast<long>(i)) = values.row(kept[i]);
+    return picked;
+  };
   core::Mesh out;
-  out.V.resize(kept, 3);
-  if (mesh.has_colors()) out.colors.resize(kept, mesh.colors.cols());
-  if (mesh.has_uvs()) out.uvs.resize(kept, mesh.uvs.cols());
-  for (long v = 0; v < n; ++v) {
-    const long to = index[static_cast<std::size_t>(v)];
-    if (to < 0) continue;
-    out.V.row(to) = mesh.V.row(v);
-    if (mesh.has_colors()) out.colors.row(to) = mesh.colors.row(v);
-    if (mesh.has_uvs()) out.uvs.row(to) = mesh.uvs.row(v);
-  }
-  std::vector<long> faces;
-  for (long f = 0; f < mesh.face_count(); ++f)
-    if (index[static_cast<std::size_t>(mesh.F(f, 0))] >= 0) faces.push_back(f);
-  out.F.resize(static_cast<long>(faces.size()), 3);
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    for (int k = 0; k < 3; ++k)
-      out.F(static_cast<long>(i), k) = static_cast<int>(index[static_cast<std::size_t>(mesh.F(faces[i], k))]);
+  out.V = rows(mesh.V);
+  if (mesh.has_colors()) out.colors = rows(mesh.colors);
+  if (mesh.has_uvs()) out.uvs = rows(mesh.uvs);
+  out.F = sub.F;
   return out;
 }
 

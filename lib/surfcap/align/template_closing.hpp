@@ -29,8 +29,8 @@ struct TemplateSurface {
 };
 
 /// `reconstruction` (read_reconstruction's output with large holes kept open) without its loose
-/// pieces and with every hole closed; a closed reconstruction in one piece is returned as it is. New vertices take the colour and texture
-/// coordinates of the nearest rim vertex. Deterministic.
+/// pieces and with every hole closed; a closed reconstruction in one piece is returned as it is.
+/// New vertices take the colour and texture coordinates of the nearest rim vertex. Deterministic.
 TemplateSurface close_template(core::Mesh reconstruction);
 
 }  // namespace surfcap::align
