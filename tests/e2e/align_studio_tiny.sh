@@ -2,9 +2,9 @@
 # surfcap-align run with its defaults on the synth studio_tiny capture, whose reconstructions are
 # open (floor cut, unseen regions removed) and carry a visual hull's phantom volume, outliers and
 # blobs: every frame is read (large holes left open), the root's holes are closed by an
-# unobserved faired patch, and the alignment holds against the ground truth. Checks the hole and
-# observation figures of the report and its preview, byte-identical outputs on 1 and 2 threads,
-# and that a corrupt frame is still refused (exit 3, naming the file and frame).
+# unobserved faired patch, and the alignment holds against the ground truth. Checks the hole,
+# merged-region and observation figures of the report and its preview, byte-identical outputs on
+# 1 and 2 threads, and that a corrupt frame is still refused (exit 3, naming the file and frame).
 set -euo pipefail
 build=${1:?build dir}
 synth=$build/tools/surfcap-synth
@@ -42,6 +42,9 @@ perl -MJSON::PP -e '
   my $frames = $r->{frames};
   die "frame count\n" unless @$frames == 16;
   die "frames with holes: $s->{frames_with_holes}\n" unless $s->{frames_with_holes} == 16;
+  # The visual hulls fuse parts that touch (hands held together, legs): some frames show it.
+  die "frames with merged regions: $s->{frames_with_merged_regions}\n"
+    unless $s->{frames_with_merged_regions} >= 1 && $s->{frames_with_merged_regions} <= 15;
   my $closing = $s->{template_unobserved_fraction};
   die "template closing fraction $closing implausible\n" unless $closing > 0.005 && $closing < 0.2;
   for my $fr (@$frames) {
@@ -52,6 +55,9 @@ perl -MJSON::PP -e '
     my $u = $fr->{unobserved_fraction};
     die "$name: unobserved fraction $u below the closing surface\n" if $u < $closing - 1e-12;
     die "$name: unobserved fraction $u\n" if $u > 0.6;
+    my $m = $fr->{merged} or die "$name: no merged-region figures\n";
+    die "$name: merged regions $m->{regions}, fraction $m->{fraction}\n"
+      unless $m->{regions} >= 0 && $m->{fraction} >= 0 && $m->{fraction} < 0.2 && ($m->{regions} > 0) == ($m->{fraction} > 0);
     if ($fr->{parent} < 0) {
       die "root: unobserved fraction is not the closing surface\n" if abs($u - $closing) > 1e-12;
       next;

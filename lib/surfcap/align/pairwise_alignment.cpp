@@ -171,7 +171,8 @@ class PairwiseSchedule {
     result_.timings.solves += seconds_since(begin);
   }
 
-  /// Residuals, the two-sided coverage and the stacked layers of the result (pairwise_checks.hpp).
+  /// Residuals, the two-sided coverage, the stacked layers and the merged regions of the result
+  /// (pairwise_checks.hpp).
   void check() {
     const auto start = Clock::now();
     const Eigen::MatrixXd aligned = surface();
@@ -187,6 +188,10 @@ class PairwiseSchedule {
     result_.stacked_fraction = stacked_fraction(model_.mesh().V, aligned, model_.mesh().F,
                                                 options_.checks.stacked_distance_edges * model_.mean_edge(),
                                                 options_.checks.stacked_rest_distance_height * model_.height());
+    const MergedRegions merged =
+        merged_regions(model_.mesh().V, aligned, model_.mesh().F, target_, model_.mean_edge(), model_.height());
+    result_.merged_regions = merged.regions;
+    result_.merged_fraction = merged.fraction;
     result_.timings.matching += seconds_since(start);
   }
 

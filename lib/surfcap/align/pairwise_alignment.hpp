@@ -114,6 +114,11 @@ struct PairwiseResult {
   double uncovered_fraction = 0;  ///< of the reconstruction's vertices, far from the aligned template
   /// Of the template's surface vertices, those in stacked layers (pairwise_checks.hpp).
   double stacked_fraction = 0;
+  /// Template surface regions fused by the child's reconstruction with another part (legs joined,
+  /// an arm fused to the torso; pairwise_checks.hpp `merged_regions`): their count and the
+  /// fraction of the template's surface vertices in them.
+  long merged_regions = 0;
+  double merged_fraction = 0;
   long crease_constraints = 0;  ///< template crease vertices drawn to the reconstruction's creases (last solve)
   long holes = 0;                    ///< holes left open in the child's reconstruction
   double largest_hole_perimeter = 0;  ///< metres

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/core/mesh.hpp"
+#include "surfcap/geometry/mesh_topology.hpp"
 #include "surfcap/geometry/vertex_grid.hpp"
 
 namespace surfcap::align {
@@ -83,6 +85,55 @@ std::vector<char> stacked_vertices(const Eigen::MatrixXd& rest, const Eigen::Mat
       stacked[static_cast<std::size_t>(u)] = stacked[static_cast<std::size_t>(v)] = 1;
     });
   return stacked;
+}
+
+MergedRegions merged_regions(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                             const geometry::SurfaceQuery& target, double mean_edge, double height) {
+  const long n = aligned.rows();
+  const double distance = MergedRegions::kDistanceEdges * mean_edge;
+  const double rest_distance = MergedRegions::kRestDistanceHeight * height;
+  MergedRegions result;
+  result.merged.assign(static_cast<std::size_t>(n), 0);
+  if (n == 0 || distance <= 0) return result;
+  const Eigen::MatrixXd normals = core::vertex_normals(aligned, F);
+  const geometry::VertexGrid grid(aligned, distance);
+  const double d2 = distance * distance, r2 = rest_distance * rest_distance;
+  for (long v = 0; v < n; ++v)
+    grid.around(aligned.row(v).transpose(), [&](long u) {
+      if (u <= v) return;
+      const double gap2 = (aligned.row(u) - aligned.row(v)).squaredNorm();
+      if (gap2 > d2 || normals.row(u).dot(normals.row(v)) >= -0.5 || (rest.row(u) - rest.row(v)).squaredNorm() <= r2)
+        return;
+      // Face to face: merged when the reconstruction has no surface between them.
+      const Eigen::Vector3d halfway = 0.5 * (aligned.row(u) + aligned.row(v)).transpose();
+      const double clearance = std::max(std::sqrt(gap2), mean_edge);
+      const auto closest = target.closest_point_within(halfway, clearance);
+      if (closest && closest->distance <= clearance) return;
+      result.merged[static_cast<std::size_t>(u)] = result.merged[static_cast<std::size_t>(v)] = 1;
+    });
+  // Connected pieces over the faces; those under kMinimumRegion vertices are dropped.
+  const std::vector<std::vector<int>> adjacency = geometry::vertex_adjacency(F, n);
+  std::vector<char> visited(static_cast<std::size_t>(n), 0);
+  long kept = 0;
+  for (long s = 0; s < n; ++s) {
+    if (!result.merged[static_cast<std::size_t>(s)] || visited[static_cast<std::size_t>(s)]) continue;
+    std::vector<int> piece{static_cast<int>(s)};
+    visited[static_cast<std::size_t>(s)] = 1;
+    for (std::size_t i = 0; i < piece.size(); ++i)
+      for (const int u : adjacency[static_cast<std::size_t>(piece[i])])
+        if (result.merged[static_cast<std::size_t>(u)] && !visited[static_cast<std::size_t>(u)]) {
+          visited[static_cast<std::size_t>(u)] = 1;
+          piece.push_back(u);
+        }
+    if (static_cast<long>(piece.size()) >= MergedRegions::kMinimumRegion) {
+      ++result.regions;
+      kept += static_cast<long>(piece.size());
+    } else {
+      for (const int u : piece) result.merged[static_cast<std::size_t>(u)] = 0;
+    }
+  }
+  result.fraction = static_cast<double>(kept) / static_cast<double>(n);
+  return result;
 }
 
 Verdict verdict(const PairwiseResult& result, double parent_residual, const FailureOptions& options) {

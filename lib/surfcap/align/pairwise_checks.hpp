@@ -88,6 +88,26 @@ double stacked_fraction(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& alig
 std::vector<char> stacked_vertices(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
                                    double distance, double rest_distance);
 
+/// Merged regions of an aligned pair: where two parts of the template that lie far apart at rest
+/// (more than kRestDistanceHeight of its height `height`) face each other within kDistanceEdges of
+/// its mean edge `mean_edge` and the reconstruction `target` shows no surface between them — the
+/// point halfway lies farther from it than the two lie from each other, and farther than one mean
+/// edge: a reconstruction that fused them (legs joined by a visual hull's phantom volume, an arm
+/// fused to the torso). Two free parts close together keep the reconstruction's surfaces between
+/// them and do not count. `merged` is 1 per vertex of `aligned` (the template surface posed, faces
+/// F; `rest` at rest) in a merged region; `regions` counts its connected pieces of at least
+/// kMinimumRegion vertices (smaller ones are not kept).
+struct MergedRegions {
+  static constexpr double kDistanceEdges = 2.0;
+  static constexpr double kRestDistanceHeight = 0.057;
+  static constexpr long kMinimumRegion = 4;
+  std::vector<char> merged;
+  long regions = 0;
+  double fraction = 0;  ///< of the vertices of `aligned`
+};
+MergedRegions merged_regions(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& aligned, const Eigen::MatrixXi& F,
+                             const geometry::SurfaceQuery& target, double mean_edge, double height);
+
 /// An attempt passes, fits clearly worse than its parent did (`grown`: worth a retry, but no
 /// evidence of a wrong alignment on its own) or failed.
 enum class Verdict { pass, grown, failed };

@@ -51,6 +51,7 @@ core::Json record_to_json(const FrameRecord& record) {
             {"heading_change", a.heading_change},
             {"mean_residual", a.mean_residual}, {"max_residual", a.max_residual},
             {"uncovered_fraction", a.uncovered_fraction}, {"stacked_fraction", a.stacked_fraction},
+            {"merged_regions", a.merged_regions}, {"merged_fraction", a.merged_fraction},
             {"crease_constraints", a.crease_constraints}, {"holes", a.holes},
             {"largest_hole_perimeter", a.largest_hole_perimeter}, {"unobserved_fraction", a.unobserved_fraction},
             {"timings", {{"matching", a.timings.matching}, {"factorisation", a.timings.factorisation},
@@ -93,6 +94,8 @@ FrameRecord record_from_json(const core::Json& j) {
   s.at("max_residual").get_to(a.max_residual);
   s.at("uncovered_fraction").get_to(a.uncovered_fraction);
   s.at("stacked_fraction").get_to(a.stacked_fraction);
+  s.at("merged_regions").get_to(a.merged_regions);
+  s.at("merged_fraction").get_to(a.merged_fraction);
   s.at("crease_constraints").get_to(a.crease_constraints);
   s.at("holes").get_to(a.holes);
   s.at("largest_hole_perimeter").get_to(a.largest_hole_perimeter);

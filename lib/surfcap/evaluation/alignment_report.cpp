@@ -12,6 +12,8 @@
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/mesh_repair.hpp"
 #include "surfcap/align/observed_surface.hpp"
+#include "surfcap/align/pairwise_checks.hpp"
+#include "surfcap/geometry/mean_edge_length.hpp"
 
 namespace surfcap::evaluation {
 
@@ -74,8 +76,8 @@ core::Json alignment_figures(const align::Registration& registration) {
   long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
   int max_depth = 0;
   long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0, hinged_patches = 0,
-       frames_with_holes = 0;
-  double most_unobserved = 0;
+       frames_with_holes = 0, frames_with_merged = 0;
+  double most_unobserved = 0, most_merged = 0;
   for (const auto& record : registration.frames) {
     const auto& a = record.alignment;
     core::Json attempts = core::Json::array();
@@ -97,6 +99,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                       {"stacked_fraction", a.stacked_fraction},
                       {"holes", {{"count", a.holes}, {"largest_perimeter_m", a.largest_hole_perimeter}}},
                       {"unobserved_fraction", a.unobserved_fraction},
+                      {"merged", {{"regions", a.merged_regions}, {"fraction", a.merged_fraction}}},
                       {"correspondences", {{"patch", a.patch_constraints}, {"dense", a.dense_constraints},
                                            {"feature", a.feature_constraints}, {"color", a.color_constraints},
                                            {"coverage", a.coverage_constraints}, {"crease", a.crease_constraints}, {"flow_pixels", a.flow_pixels}, {"flow", a.flow_vertices}}},
@@ -127,6 +130,8 @@ core::Json alignment_figures(const align::Registration& registration) {
     hinged_patches += a.hinged_patches;
     frames_with_holes += a.holes > 0 ? 1 : 0;
     most_unobserved = std::max(most_unobserved, a.unobserved_fraction);
+    frames_with_merged += a.merged_regions > 0 ? 1 : 0;
+    most_merged = std::max(most_merged, a.merged_fraction);
   }
   const double count = std::max<double>(1.0, static_cast<double>(registration.frames.size()));
   return {{"frames", frames},
@@ -149,7 +154,9 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"frames_with_holes", frames_with_holes},
                        {"template_unobserved_fraction", template_unobserved_fraction(registration)},
                        {"template_dropped_vertices", registration.template_dropped_vertices.size()},
-                       {"max_unobserved_fraction", most_unobserved}}}};
+                       {"max_unobserved_fraction", most_unobserved},
+                       {"frames_with_merged_regions", frames_with_merged},
+                       {"max_merged_fraction", most_merged}}}};
 }
 
 std::vector<long> preview_nodes(const align::Registration& registration, int count) {
@@ -227,12 +234,13 @@ void visit_nodes(const core::Capture& capture, const align::Registration& regist
 
 /// The front panel and the side view (a quarter turn about the vertical through the centroid).
 void add_front_and_side(std::vector<cv::Mat>& panels, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
-                        const Eigen::VectorXd& values, double scale, const std::string& label) {
+                        const Eigen::VectorXd& values, double scale, const std::string& label,
+                        const std::string& side_label = "side") {
   panels.push_back(render_panel(V, F, values, scale, kPanelSize, label));
   Eigen::MatrixXd side = V.rowwise() - V.colwise().mean();
   side.col(0).swap(side.col(2));
   side.col(0) *= -1;
-  panels.push_back(render_panel(side, F, values, scale, kPanelSize, "side"));
+  panels.push_back(render_panel(side, F, values, scale, kPanelSize, side_label));
 }
 
 }  // namespace
@@ -250,31 +258,44 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
   write_sheet(path, panels, millimetre_legend(scale, "to the reconstruction"));
 }
 
-bool has_unobserved(const align::Registration& registration) {
+bool has_observation_figures(const align::Registration& registration) {
   if (registration.template_observed_vertices < registration.database.template_mesh.vertex_count()) return true;
   return std::any_of(registration.frames.begin(), registration.frames.end(),
-                     [](const align::FrameRecord& record) { return record.alignment.holes > 0; });
+                     [](const align::FrameRecord& record) {
+                       return record.alignment.holes > 0 || record.alignment.merged_regions > 0;
+                     });
 }
 
 void write_observation_preview(const std::filesystem::path& path, const core::Capture& capture,
                                const align::Registration& registration, const std::vector<long>& nodes) {
   std::vector<cv::Mat> panels;
   const Eigen::MatrixXi& F = registration.database.template_mesh.F;
+  // The merged regions as the pairwise checks measured them (pairwise_alignment.cpp).
+  const Eigen::MatrixXd& rest = registration.database.template_mesh.V;
+  const double mean_edge = geometry::mean_edge_length(rest, F);
+  const double height = rest.col(1).maxCoeff() - rest.col(1).minCoeff();
   visit_nodes(capture, registration, nodes,
               [&](const align::FrameRecord& record, const core::Mesh& target, const Eigen::MatrixXd& V) {
                 const geometry::SurfaceQuery query(target.V, target.F);
                 const align::ObservedSurface observed(target.V, target.F);
+                const align::MergedRegions merged =
+                    align::merged_regions(rest, V, F, query, mean_edge, height);
                 Eigen::VectorXd values = Eigen::VectorXd::Zero(V.rows());
                 for (long v = 0; v < V.rows(); ++v)
                   if (v >= registration.template_observed_vertices) values(v) = 1;
                   else if (observed.partial() && !observed.observed(query.closest_point(V.row(v).transpose())))
                     values(v) = 0.75;
-                char label[200];
+                  else if (merged.merged[static_cast<std::size_t>(v)])
+                    values(v) = 0.4;
+                char label[200], side_label[100];
                 std::snprintf(label, sizeof label, "%s:%d %ld holes, %.0f %% unobserved", record.sequence.c_str(),
                               record.frame, record.alignment.holes, 100 * record.alignment.unobserved_fraction);
-                add_front_and_side(panels, V, F, values, 1.0, label);
+                std::snprintf(side_label, sizeof side_label, "side; %ld merged regions", record.alignment.merged_regions);
+                add_front_and_side(panels, V, F, values, 1.0, label, side_label);
               });
-  write_sheet(path, panels, "observed (blue), over a hole's rim in this frame (orange), closing surface (red)");
+  write_sheet(path, panels,
+              "observed (blue), fused with another part (green), over a hole's rim in this frame (orange), closing "
+              "surface (red)");
 }
 
 void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,

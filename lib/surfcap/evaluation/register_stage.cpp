@@ -112,7 +112,7 @@ void finish_stage(const std::filesystem::path& out, const RegisterInputs& inputs
     const std::vector<long> nodes = preview_nodes(registration, options.report.preview_frames);
     write_residual_preview(out / "report" / "alignment.png", inputs.capture, registration, nodes,
                            options.report.preview_scale_mm / 1000);
-    if (has_unobserved(registration))
+    if (has_observation_figures(registration))
       write_observation_preview(out / "report" / "observation.png", inputs.capture, registration, nodes);
   }
   figures["options"] = options.options_json;

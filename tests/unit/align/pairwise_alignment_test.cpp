@@ -6,10 +6,12 @@
 #include <set>
 
 #include "deformable_shape.hpp"
+#include "surfcap/align/pairwise_checks.hpp"
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/align/rigid_initialisation.hpp"
 #include "surfcap/align/surface_patches.hpp"
 #include "surfcap/align/tree_alignment.hpp"
+#include "surfcap/geometry/mean_edge_length.hpp"
 
 namespace surfcap::align {
 namespace {
@@ -88,6 +90,43 @@ TEST(PairwiseAlignment, StackedLayersAreASheetSlidOntoItselfNotOneFoldedToTouchI
   for (long v = 0; v < folded.rows(); ++v)
     if (folded(v, 0) > 0.5 + 1e-9) folded.row(v) << 1 - folded(v, 0), folded(v, 1), 0.01;
   EXPECT_EQ(stacked_fraction(rest.V, folded, rest.F, distance, far), 0.0);
+}
+
+TEST(PairwiseAlignment, MergedRegionsAreFacingPartsWithNoReconstructedSurfaceBetweenThem) {
+  // The sheet folded over onto itself, 2 cm above (two parts that touch, far apart at rest).
+  const core::Mesh rest = two_tone_plane(21);  // 5 cm spacing, 1 m high
+  const double mean_edge = geometry::mean_edge_length(rest.V, rest.F), height = 1.0;
+  const auto folded_at = [&](double gap) {
+    Eigen::MatrixXd folded = rest.V;
+    for (long v = 0; v < folded.rows(); ++v)
+      if (folded(v, 0) > 0.5 + 1e-9) folded.row(v) << 1 - folded(v, 0), folded(v, 1), gap;
+    return folded;
+  };
+  const Eigen::MatrixXd folded = folded_at(0.02);
+  // Reconstructed as it is (both layers): free parts, nothing merged.
+  const geometry::SurfaceQuery both_layers(folded, rest.F);
+  const MergedRegions free = merged_regions(rest.V, folded, rest.F, both_layers, mean_edge, height);
+  EXPECT_EQ(free.regions, 0);
+  EXPECT_EQ(free.fraction, 0.0);
+  // Reconstructed as one slab around both layers (the faces 20 cm above and below): fused.
+  core::Mesh slab = two_tone_plane(21);
+  const long n = slab.V.rows();
+  Eigen::MatrixXd slab_V(2 * n, 3);
+  slab_V << slab.V.rowwise() + Eigen::RowVector3d(0, 0, 0.2), slab.V.rowwise() - Eigen::RowVector3d(0, 0, 0.2);
+  Eigen::MatrixXi slab_F(2 * slab.F.rows(), 3);
+  slab_F << slab.F, slab.F.array() + static_cast<int>(n);
+  const geometry::SurfaceQuery fused(slab_V, slab_F);
+  const MergedRegions merged = merged_regions(rest.V, folded, rest.F, fused, mean_edge, height);
+  // Every vertex away from the fold lies face to face with one 20 cm or more away at rest; the fold
+  // column's own normals are turned by the folded faces.
+  EXPECT_GE(merged.regions, 1);
+  EXPECT_LE(merged.regions, 2);
+  EXPECT_GT(merged.fraction, 0.9);
+  for (long v = 0; v < rest.V.rows(); ++v)
+    if (std::abs(rest.V(v, 0) - 0.5) > 0.01) EXPECT_EQ(merged.merged[static_cast<std::size_t>(v)], 1) << v;
+  // Farther apart than two mean edges, the layers are not in contact.
+  const Eigen::MatrixXd apart = folded_at(2.5 * mean_edge);
+  EXPECT_EQ(merged_regions(rest.V, apart, rest.F, fused, mean_edge, height).regions, 0);
 }
 
 TEST(RigidIcp, ColourAwareMatchingUndoesASlideThatClosestPointsCannotSee) {
