@@ -161,13 +161,15 @@ class PairwiseSchedule {
         flow.support(v) = 0;
   }
 
+  /// One solve towards `targets`, their weights scaled to the template's resolution
+  /// (AlignmentTemplate::weight_scale).
   void solve(const TargetSet& targets) {
     auto begin = Clock::now();
-    model_.deformer().factor(targets.weights, solver_);
+    const Eigen::VectorXd weights = model_.weight_scale() * targets.weights;
+    model_.deformer().factor(weights, solver_);
     result_.timings.factorisation += seconds_since(begin);
     begin = Clock::now();
-    positions_ = model_.deformer().deform(solver_, positions_, targets.positions, targets.weights,
-                                          options_.rotation_iterations);
+    positions_ = model_.deformer().deform(solver_, positions_, targets.positions, weights, options_.rotation_iterations);
     result_.timings.solves += seconds_since(begin);
   }
 

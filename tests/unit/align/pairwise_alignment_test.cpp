@@ -6,6 +6,7 @@
 #include <set>
 
 #include "deformable_shape.hpp"
+#include "surfcap/align/alignment_template.hpp"
 #include "surfcap/align/pairwise_checks.hpp"
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/align/rigid_initialisation.hpp"
@@ -127,6 +128,19 @@ TEST(PairwiseAlignment, MergedRegionsAreFacingPartsWithNoReconstructedSurfaceBet
   // Farther apart than two mean edges, the layers are not in contact.
   const Eigen::MatrixXd apart = folded_at(2.5 * mean_edge);
   EXPECT_EQ(merged_regions(rest.V, apart, rest.F, fused, mean_edge, height).regions, 0);
+}
+
+TEST(AlignmentTemplate, TargetWeightsFollowTheResolutionOfTemplatesFinerThanTheReference) {
+  // The same ellipsoid at two resolutions: the coarse one keeps the weights as stated, the finer
+  // one (under the reference's edge) scales them by its mean edge: per unit of surface, the same pull.
+  PairwiseOptions options;
+  options.levels = 1;
+  const AlignmentTemplate coarse(testing::ellipsoid(12, 24), options);
+  EXPECT_GT(coarse.mean_edge(), AlignmentTemplate::kReferenceEdgeHeight * coarse.height());
+  EXPECT_EQ(coarse.weight_scale(), 1.0);
+  const AlignmentTemplate fine(testing::ellipsoid(80, 160), options);
+  EXPECT_NEAR(fine.weight_scale(), fine.mean_edge() / (fine.height() / 80), 1e-12);
+  EXPECT_LT(fine.weight_scale(), 0.8);
 }
 
 TEST(RigidIcp, ColourAwareMatchingUndoesASlideThatClosestPointsCannotSee) {
