@@ -42,7 +42,8 @@ class PairwiseSchedule {
 
   PairwiseResult run() {
     initialise();
-    for (std::size_t level = 0; level < model_.patches().size(); ++level) patch_level(level);
+    for (std::size_t level = 0; level < model_.patches().size(); ++level)
+      for (int pass = 0; pass < (level == 0 ? options_.coarse_passes : 1); ++pass) patch_level(level);
     for (int iteration = 0; iteration < options_.dense_iterations; ++iteration)
       if (!dense_iteration()) break;
     if (use_flow())

@@ -33,6 +33,10 @@ namespace surfcap::align {
 struct PairwiseOptions {
   int patches = 30;                 ///< rigid patches at the coarsest level (casas2011: 30)
   int levels = 4;                   ///< patch levels, doubling the count each level
+  /// Fit-and-solve passes of the coarsest level: each refits the patches from where the last solve
+  /// left the template, so a limb that moved farther than one fit follows (a runner's shin) is
+  /// reached before the finer levels' smaller gates take over.
+  int coarse_passes = 3;
   int patch_icp_iterations = 6;
   int rotation_iterations = 3;      ///< rotation updates (solves) per level and per dense iteration
   double patch_weight = 0.09;       ///< soft-constraint weight of a patch target (relative to L's diagonal)
@@ -60,6 +64,8 @@ struct PairwiseOptions {
     using core::Range;
     t.field("patches", self.patches, "Rigid patches at the coarsest level (doubling per level)", Range::at_least(1));
     t.field("levels", self.levels, "Coarse-to-fine patch levels", Range::closed(0, 10));
+    t.field("coarse_passes", self.coarse_passes, "Fit-and-solve passes of the coarsest patch level",
+            Range::closed(1, 10));
     t.field("patch_icp_iterations", self.patch_icp_iterations, "ICP iterations per patch fit", Range::at_least(1));
     t.field("rotation_iterations", self.rotation_iterations, "Rotation updates (solves) per level", Range::at_least(1));
     t.field("patch_weight", self.patch_weight, "Soft-constraint weight of patch targets", Range::above(0));
