@@ -114,6 +114,7 @@ struct PairwiseResult {
   bool predicted = false;       ///< a motion prediction was given (align_pair's predicted_surface)
   int predicted_patches = 0;    ///< patch fits taken from the motion-predicted start
   int hinged_patches = 0;       ///< folded patches refitted about a joint (patch_targets.hpp)
+  int carried_patches = 0;      ///< off-surface coarsest patches refitted from a neighbour's fit (patch_targets.hpp)
   double heading_change = 0;    ///< radians, of the rigid initialisation
   double mean_residual = 0;     ///< mean distance aligned surface vertex → reconstruction (m), observed vertices
   double max_residual = 0;

@@ -129,6 +129,26 @@ RigidFit compose(const RigidFit& outer, const RigidFit& inner) {
 
 }  // namespace
 
+std::vector<PatchTargets::PatchJoints> PatchTargets::patch_joints(std::size_t level) const {
+  const PatchSet& set = model_.patches()[level];
+  std::vector<PatchJoints> joints(static_cast<std::size_t>(set.count()));
+  const Eigen::MatrixXi& F = model_.mesh().F;
+  const long n = static_cast<long>(set.label.size());
+  for (long f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      if (a >= n || b >= n) continue;
+      const int pa = set.label[static_cast<std::size_t>(a)], pb = set.label[static_cast<std::size_t>(b)];
+      if (pa != pb) joints[static_cast<std::size_t>(pa)][pb].push_back(a);
+    }
+  for (auto& patch : joints)
+    for (auto& [neighbour, vertices] : patch) {
+      std::sort(vertices.begin(), vertices.end());
+      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    }
+  return joints;
+}
+
 /// The fits of one level's patches and where they put the template (accepted patches moved, the
 /// others where they are), with the stacked vertices of that placement counted per patch.
 struct PatchTargets::LevelFits {
@@ -161,31 +181,15 @@ void PatchTargets::count_stacked(std::size_t level, const Eigen::MatrixXd& surfa
 
 void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
                           const IcpOptions& icp, LevelFits& level_fits, PairwiseResult& result) const {
-  const PatchSet& set = model_.patches()[level];
-  const int count = set.count();
-  // Per patch, its vertices on the boundary with each neighbouring patch (the joints).
-  std::vector<std::map<int, std::vector<int>>> joints(static_cast<std::size_t>(count));
-  const Eigen::MatrixXi& F = model_.mesh().F;
-  const long n = static_cast<long>(set.label.size());
-  for (long f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (a >= n || b >= n) continue;
-      const int pa = set.label[static_cast<std::size_t>(a)], pb = set.label[static_cast<std::size_t>(b)];
-      if (pa != pb) joints[static_cast<std::size_t>(pa)][pb].push_back(a);
-    }
-  for (auto& patch_joints : joints)
-    for (auto& [neighbour, vertices] : patch_joints) {
-      std::sort(vertices.begin(), vertices.end());
-      vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    }
+  const int count = model_.patches()[level].count();
+  const std::vector<PatchJoints> joints = patch_joints(level);
   IcpOptions screening = icp;
   screening.iterations = std::min(icp.iterations, kHingeScreeningIterations);
   for (int pass = 0; pass < kHingePasses; ++pass) {
     bool changed = false;
     for (int p = 0; p < count; ++p) {
       const std::vector<int>& list = level_fits.members[static_cast<std::size_t>(p)];
-      if (list.size() < 8 ||
+      if (list.size() < kMinimumJointPatch ||
           static_cast<double>(level_fits.stacked[static_cast<std::size_t>(p)]) < kFoldedShare * static_cast<double>(list.size()))
         continue;
       const Eigen::MatrixXd points = rows_of(surface, list), point_normals = rows_of(normals, list);
@@ -203,7 +207,7 @@ void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, con
       const Eigen::Vector3d centre = points.colwise().mean().transpose();
       std::vector<std::pair<double, RigidFit>> starts;
       for (const auto& [neighbour, joint_vertices] : joints[static_cast<std::size_t>(p)]) {
-        if (!level_fits.accepted[static_cast<std::size_t>(neighbour)] || joint_vertices.size() < 3) continue;
+        if (!level_fits.accepted[static_cast<std::size_t>(neighbour)] || joint_vertices.size() < kMinimumJoint) continue;
         const RigidFit& carried = level_fits.fits[static_cast<std::size_t>(neighbour)];
         Eigen::Vector3d joint = Eigen::Vector3d::Zero();
         for (const int v : joint_vertices) joint += surface.row(v).transpose();
@@ -264,6 +268,41 @@ void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, con
   }
 }
 
+void PatchTargets::carry(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
+                         const IcpOptions& icp, LevelFits& level_fits, PairwiseResult& result) const {
+  const std::vector<PatchJoints> joints = patch_joints(level);
+  // Every start is a neighbour's own fit, not one already carried: the result does not depend on
+  // the order of the patches.
+  const std::vector<RigidFit> own_fits = level_fits.fits;
+  const std::vector<char> own_accepted = level_fits.accepted;
+  const double off_surface = options_.dense_distance_edges * model_.mean_edge();
+  for (std::size_t p = 0; p < joints.size(); ++p) {
+    const std::vector<int>& list = level_fits.members[p];
+    if (list.size() < kMinimumJointPatch) continue;
+    const Eigen::MatrixXd points = rows_of(surface, list), point_normals = rows_of(normals, list);
+    const RigidFit& own = own_fits[p];
+    double best = compatible_distance(transformed(points, own), point_normals * own.rotation.transpose(), target_, icp);
+    if (best <= off_surface) continue;
+    bool carried = false;
+    for (const auto& [neighbour, joint_vertices] : joints[p]) {
+      if (!own_accepted[static_cast<std::size_t>(neighbour)] || joint_vertices.size() < kMinimumJoint) continue;
+      const RigidFit fit = fit_rigid(points, point_normals, target_, icp, own_fits[static_cast<std::size_t>(neighbour)]);
+      const double distance =
+          compatible_distance(transformed(points, fit), point_normals * fit.rotation.transpose(), target_, icp);
+      if (!(distance < options_.prediction.gain * best) || fit.inliers < level_fits.fits[p].inliers) continue;
+      best = distance;
+      if (!level_fits.accepted[p] &&
+          static_cast<double>(fit.inliers) >= options_.min_patch_inliers * static_cast<double>(list.size()))
+        ++result.accepted_patches;
+      level_fits.fits[p] = fit;
+      level_fits.accepted[p] =
+          static_cast<double>(fit.inliers) >= options_.min_patch_inliers * static_cast<double>(list.size());
+      carried = true;
+    }
+    if (carried) ++result.carried_patches;
+  }
+}
+
 void PatchTargets::add(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd* predicted,
                        TargetSet& targets, PairwiseResult& result) const {
   const Eigen::MatrixXd normals = core::vertex_normals(surface, model_.mesh().F);
@@ -284,6 +323,7 @@ void PatchTargets::add(std::size_t level, const Eigen::MatrixXd& surface, const 
         static_cast<double>(level_fits.fits[p].inliers) >= options_.min_patch_inliers * static_cast<double>(list.size());
     if (level_fits.accepted[p]) ++result.accepted_patches;
   }
+  if (level == 0) carry(level, surface, normals, settings, level_fits, result);
   if (level == 0 && options_.unfold) {
     count_stacked(level, surface, level_fits);
     if (level_fits.stacked_total > 0) unfold(level, surface, normals, settings, level_fits, result);

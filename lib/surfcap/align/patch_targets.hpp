@@ -5,7 +5,10 @@
 // or correspondence kinds, and a model selection per patch keeps the better fit: colour-aware
 // correspondences (when both meshes have colours) and the motion-predicted pose (when given).
 // Only the template's observed vertices are fitted and targeted, and a fitted vertex whose closest
-// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target. When asked
+// reconstruction point lies on a hole's rim (observed_surface.hpp) gets no target. At the
+// coarsest level a patch whose own fit lies off the reconstruction is also started from each
+// fitted neighbour's motion (carried starts): a foot that turned with its shin farther than its own
+// fit reaches follows the shin's fit. When asked
 // (PairwiseOptions::unfold, a folded frame's second attempt), at the coarsest level a patch whose
 // fit folds it onto another part of the template (stacked layers, pairwise_checks.hpp: a forearm
 // laid on its upper arm where the child bends the elbow farther than the gate reaches) is searched
@@ -16,8 +19,10 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "surfcap/align/rigid_icp.hpp"
 #include "surfcap/align/target_set.hpp"
@@ -105,6 +110,20 @@ class PatchTargets {
   /// sample, the best kHingeFinalists fitted on.
   void unfold(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals, const IcpOptions& icp,
               LevelFits& level_fits, PairwiseResult& result) const;
+  /// Per patch of a level, its vertices on the boundary with each neighbouring patch (the joints).
+  using PatchJoints = std::map<int, std::vector<int>>;
+  std::vector<PatchJoints> patch_joints(std::size_t level) const;
+  /// The carried starts of the coarsest level: a patch whose own fit lies off the reconstruction
+  /// (its mean compatible distance beyond the dense gate) is also fitted from each accepted
+  /// neighbour's fit; a start that lies clearly closer (the prediction gain) with no fewer matches
+  /// is taken. A foot or forearm that turned with its limb farther than its own fit reaches follows
+  /// the limb's fit.
+  void carry(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals, const IcpOptions& icp,
+             LevelFits& level_fits, PairwiseResult& result) const;
+  /// Patches under this many fitted vertices, and joints under kMinimumJoint boundary vertices,
+  /// are not searched from a neighbour.
+  static constexpr std::size_t kMinimumJointPatch = 8;
+  static constexpr std::size_t kMinimumJoint = 3;
   static constexpr double kFoldedShare = 0.01;
   static constexpr int kHingeAxes = 4;
   static constexpr int kHingeSample = 64;

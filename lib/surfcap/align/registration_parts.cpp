@@ -48,7 +48,7 @@ core::Json record_to_json(const FrameRecord& record) {
             {"flow_vertices", a.flow_vertices}, {"accepted_patches", a.accepted_patches},
             {"total_patches", a.total_patches}, {"color_patches", a.color_patches}, {"predicted", a.predicted},
             {"predicted_patches", a.predicted_patches}, {"hinged_patches", a.hinged_patches},
-            {"heading_change", a.heading_change},
+            {"carried_patches", a.carried_patches}, {"heading_change", a.heading_change},
             {"mean_residual", a.mean_residual}, {"max_residual", a.max_residual},
             {"uncovered_fraction", a.uncovered_fraction}, {"stacked_fraction", a.stacked_fraction},
             {"merged_regions", a.merged_regions}, {"merged_fraction", a.merged_fraction},
@@ -89,6 +89,7 @@ FrameRecord record_from_json(const core::Json& j) {
   s.at("predicted").get_to(a.predicted);
   s.at("predicted_patches").get_to(a.predicted_patches);
   s.at("hinged_patches").get_to(a.hinged_patches);
+  s.at("carried_patches").get_to(a.carried_patches);
   s.at("heading_change").get_to(a.heading_change);
   s.at("mean_residual").get_to(a.mean_residual);
   s.at("max_residual").get_to(a.max_residual);

@@ -75,7 +75,7 @@ core::Json alignment_figures(const align::Registration& registration) {
   double mean_sum = 0, worst = 0;
   long patch = 0, dense = 0, feature = 0, coverage = 0, flow = 0;
   int max_depth = 0;
-  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0, hinged_patches = 0,
+  long retried = 0, unrecovered = 0, predicted_frames = 0, predicted_patches = 0, hinged_patches = 0, carried_patches = 0,
        frames_with_holes = 0, frames_with_merged = 0;
   double most_unobserved = 0, most_merged = 0;
   for (const auto& record : registration.frames) {
@@ -108,6 +108,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                       {"predicted", a.predicted},
                       {"predicted_patches", a.predicted_patches},
                       {"hinged_patches", a.hinged_patches},
+                      {"carried_patches", a.carried_patches},
                       {"total_patches", a.total_patches},
                       {"heading_change_rad", a.heading_change},
                       {"image_features", record.features},
@@ -128,6 +129,7 @@ core::Json alignment_figures(const align::Registration& registration) {
     predicted_frames += a.predicted ? 1 : 0;
     predicted_patches += a.predicted_patches;
     hinged_patches += a.hinged_patches;
+    carried_patches += a.carried_patches;
     frames_with_holes += a.holes > 0 ? 1 : 0;
     most_unobserved = std::max(most_unobserved, a.unobserved_fraction);
     frames_with_merged += a.merged_regions > 0 ? 1 : 0;
@@ -144,6 +146,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"frames_predicted", predicted_frames},
                        {"predicted_patches", predicted_patches},
                        {"hinged_patches", hinged_patches},
+                       {"carried_patches", carried_patches},
                        {"correspondences", {{"patch", patch}, {"dense", dense}, {"feature", feature},
                                            {"coverage", coverage}, {"flow", flow}}},
                        {"deformer", registration.deformer_model},
