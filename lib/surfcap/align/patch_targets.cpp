@@ -47,6 +47,7 @@ PatchTargets::PatchTargets(const AlignmentTemplate& model, const geometry::Surfa
                            const ObservedSurface& observed, const Eigen::MatrixXd* target_colors,
                            const PairwiseOptions& options)
     : model_(model), target_(target), observed_(observed), options_(options) {
+  if (!model.patches().empty()) coarsest_joints_ = patch_joints(0);
   const PatchColorOptions& colour = options.patch_color;
   if (colour.scale && colour.levels > 0 && model.smoothed_colors().rows() == model.deformer().surface_vertex_count() &&
       target_colors != nullptr && target_colors->rows() == target.vertices().rows()) {
@@ -182,7 +183,7 @@ void PatchTargets::count_stacked(std::size_t level, const Eigen::MatrixXd& surfa
 void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
                           const IcpOptions& icp, LevelFits& level_fits, PairwiseResult& result) const {
   const int count = model_.patches()[level].count();
-  const std::vector<PatchJoints> joints = patch_joints(level);
+  const std::vector<PatchJoints>& joints = coarsest_joints_;
   IcpOptions screening = icp;
   screening.iterations = std::min(icp.iterations, kHingeScreeningIterations);
   for (int pass = 0; pass < kHingePasses; ++pass) {
@@ -270,7 +271,7 @@ void PatchTargets::unfold(std::size_t level, const Eigen::MatrixXd& surface, con
 
 void PatchTargets::carry(std::size_t level, const Eigen::MatrixXd& surface, const Eigen::MatrixXd& normals,
                          const IcpOptions& icp, LevelFits& level_fits, PairwiseResult& result) const {
-  const std::vector<PatchJoints> joints = patch_joints(level);
+  const std::vector<PatchJoints>& joints = coarsest_joints_;
   // Every start is a neighbour's own fit, not one already carried: the result does not depend on
   // the order of the patches.
   const std::vector<RigidFit> own_fits = level_fits.fits;

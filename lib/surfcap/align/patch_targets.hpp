@@ -142,6 +142,9 @@ class PatchTargets {
   const PairwiseOptions& options_;
   Eigen::MatrixXd target_smoothed_colors_;
   std::unique_ptr<ColoredTarget> colored_;  ///< null: no colour-aware fits
+  /// The coarsest level's joints (patch_joints(0)), for the carried starts and the hinge search of
+  /// every coarsest pass.
+  std::vector<PatchJoints> coarsest_joints_;
 };
 
 }  // namespace surfcap::align
