@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The alignment suite (docs/align.md "Measured figures"): makes each capture once, aligns it with
-# `surfcap-align run` and prints a table of RMS, worst frame and p99 vertex error (% of the
+# `surfcap-align run` and prints a table of the root frame, RMS, worst frame and p99 vertex error (% of the
 # height) and register CPU time per capture. Run it before and after a change to the alignment and
 # compare the tables: a change that helps one capture and hurts another is not a gain.
 #
@@ -81,7 +81,9 @@ make_capture() {
 figures() {
   perl -MJSON::PP -e '
     local $/; open(my $f, "<", $ARGV[0]) or die; my $r = decode_json(<$f>); my $g = $r->{ground_truth};
-    printf "| %s | %.4f | %s %.4f | %.4f | %d | %.0f |\n", $ARGV[1], $g->{rms_percent_height}, $g->{worst_frame},
+    my ($root) = grep { $_->{depth} == 0 } @{$r->{frames}};
+    printf "| %s | %s:%d | %.4f | %s %.4f | %.4f | %d | %.0f |\n", $ARGV[1], $root->{sequence}, $root->{frame},
+      $g->{rms_percent_height}, $g->{worst_frame},
       $g->{worst_frame_rms_percent_height}, $g->{p99_vertex_error_percent_height},
       $r->{summary}{frames_unrecovered}, $r->{cpu_s};
   ' "$1" "$2"
@@ -103,8 +105,8 @@ range() {
 
 table=$out/suite.md spread_table=$out/spread.md
 {
-  echo "| capture | RMS % | worst frame % | p99 % | unrecovered frames | register CPU s |"
-  echo "|---|---|---|---|---|---|"
+  echo "| capture | root | RMS % | worst frame % | p99 % | unrecovered frames | register CPU s |"
+  echo "|---|---|---|---|---|---|---|"
 } > "$table"
 {
   echo "| capture | RMS % (patches 29, 30, 31) | worst frame % | p99 % |"
