@@ -6,9 +6,11 @@
 #include <tetgen.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "surfcap/core/error.hpp"
@@ -19,18 +21,76 @@ namespace surfcap::geometry {
 
 namespace {
 
-/// Inside test against the closest face: the offset to the closest point points against the
-/// face normal. Robust away from the surface, which is where it is used.
-bool inside(const SurfaceQuery& surface, const Eigen::Vector3d& p, double* distance = nullptr) {
-  const SurfacePoint closest = surface.closest_point(p);
-  if (distance) *distance = closest.distance;
-  return (p - closest.position).dot(surface.face_normal(closest.face)) < 0;
-}
+/// Inside test by the sign of the offset from the closest surface point along the surface's
+/// angle-weighted pseudo-normal there (Bærentzen & Aanæs 2005): the face's normal inside a face,
+/// the sum of its two faces' normals on an edge, the angle-weighted normal at a vertex. Unlike the
+/// closest face's normal alone, it is right at convex corners (a fingertip, a heel) for every
+/// point of space, not only close to the surface, on a closed, consistently oriented surface that
+/// does not pass through itself (where a reconstruction folds, it can still err).
+class InsideTest {
+ public:
+  InsideTest(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) : surface_(V, F), F_(F) {
+    vertex_normals_ = Eigen::MatrixXd::Zero(V.rows(), 3);
+    edges_.reserve(static_cast<std::size_t>(3 * F.rows()));
+    for (long f = 0; f < F.rows(); ++f) {
+      const Eigen::Vector3d n = surface_.face_normal(f);
+      for (int k = 0; k < 3; ++k) {
+        const int a = F(f, k), b = F(f, (k + 1) % 3), c = F(f, (k + 2) % 3);
+        const Eigen::Vector3d u = (V.row(b) - V.row(a)).transpose(), w = (V.row(c) - V.row(a)).transpose();
+        const double nu = u.norm(), nw = w.norm();
+        if (nu > 0 && nw > 0) vertex_normals_.row(a) += std::acos(std::clamp(u.dot(w) / (nu * nw), -1.0, 1.0)) * n;
+        edges_.push_back({std::min(a, b), std::max(a, b), f});
+      }
+    }
+    std::sort(edges_.begin(), edges_.end());
+  }
+
+  /// Is p inside? `distance` (if given) receives its distance from the surface.
+  bool operator()(const Eigen::Vector3d& p, double* distance = nullptr) const {
+    const SurfacePoint closest = surface_.closest_point(p);
+    if (distance) *distance = closest.distance;
+    return (p - closest.position).dot(pseudo_normal(closest)) < 0;
+  }
+
+ private:
+  struct Edge {
+    int a, b;
+    long face;
+    bool operator<(const Edge& o) const { return std::tie(a, b, face) < std::tie(o.a, o.b, o.face); }
+  };
+
+  Eigen::Vector3d pseudo_normal(const SurfacePoint& point) const {
+    constexpr double kOnFeature = 1e-9;
+    const Eigen::Vector3d& w = point.barycentric;
+    int zeros = 0;
+    for (int k = 0; k < 3; ++k) zeros += w(k) < kOnFeature;
+    if (zeros == 0) return surface_.face_normal(point.face);
+    if (zeros >= 2) {
+      int corner = 0;
+      w.maxCoeff(&corner);
+      return vertex_normals_.row(F_(point.face, corner)).transpose();
+    }
+    int a = -1, b = -1;
+    for (int k = 0; k < 3; ++k)
+      if (w(k) >= kOnFeature) (a < 0 ? a : b) = F_(point.face, k);
+    if (a > b) std::swap(a, b);
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (auto it = std::lower_bound(edges_.begin(), edges_.end(), Edge{a, b, -1});
+         it != edges_.end() && it->a == a && it->b == b; ++it)
+      normal += surface_.face_normal(it->face);
+    return normal;
+  }
+
+  SurfaceQuery surface_;
+  Eigen::MatrixXi F_;
+  Eigen::MatrixXd vertex_normals_;
+  std::vector<Edge> edges_;
+};
 
 }  // namespace
 
 TetMesh tetrahedralise(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const TetrahedraliseOptions& options) {
-  const SurfaceQuery surface(V, F);
+  const InsideTest inside(V, F);
   const double edge = mean_edge_length(V, F);
   std::vector<Eigen::Vector3d> interior;
   if (options.interior_spacing_edges > 0 && edge > 0) {
@@ -41,7 +101,7 @@ TetMesh tetrahedralise(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
         for (double z = low.z() + spacing / 2; z < high.z(); z += spacing) {
           double distance = 0;
           const Eigen::Vector3d p(x, y, z);
-          if (inside(surface, p, &distance) && distance > 0.5 * spacing) interior.push_back(p);
+          if (inside(p, &distance) && distance > 0.5 * spacing) interior.push_back(p);
         }
   }
   tetgenio in, out;
@@ -77,7 +137,7 @@ TetMesh tetrahedralise(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const
                           p3 = mesh.V.row(tet(3));
     const double volume = (p1 - p0).dot((p2 - p0).cross(p3 - p0)) / 6.0;
     if (volume < 0) std::swap(tet(2), tet(3));
-    if (std::abs(volume) < min_volume || !inside(surface, centroid)) continue;
+    if (std::abs(volume) < min_volume || !inside(centroid)) continue;
     kept.push_back(tet);
   }
   mesh.T.resize(static_cast<long>(kept.size()), 4);
