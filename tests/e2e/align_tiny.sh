@@ -4,7 +4,7 @@
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # the automatic root, and exit codes. The template is a stride of the walk (--root walk:0, as
 # scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %, p99 4.5 %)
-# leave room above the figures docs/align.md gives for tiny (0.936 % / 1.639 % / 3.94 %): single
+# leave room above the figures docs/align.md gives for tiny (0.955 % / 1.615 % / 3.99 %): single
 # hard edges move them by tenths of a percent with small changes of the method (the p99 between
 # 3.87 % and 4.23 % with 29 to 31 coarsest patches), and the sanitizer build synthesises another
 # tiny capture.
