@@ -365,11 +365,10 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
   if (child.images().size() != cameras.size()) return result;
   const Eigen::MatrixXd normals = face_normals(surface, F);
   std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> offsets(static_cast<std::size_t>(n));
-  // DIS's medium preset at full resolution or, where the template spans at least
-  // kHalfResolutionSpanPx pixels in the image, at half resolution refined variationally to full
-  // (a tenth of the cost): its patches then still cover small parts of the body.
-  constexpr int kHalfResolutionSpanPx = 200;
+  // DIS's medium preset down to full resolution: the texture that tells a slide along the surface
+  // is a few pixels across (a print's dots, a seam) and would be blurred away at half resolution.
   const cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+  dis->setFinestScale(0);
   for (std::size_t c = 0; c < cameras.size(); ++c) {
     const render::Camera& camera = cameras[c];
     const GreyImage& actual = child.images()[c];
@@ -378,8 +377,6 @@ FlowTargets flow_targets(const TemplateAppearance& appearance, const Eigen::Matr
     const auto prediction = predict_camera(appearance, surface, F, normals, seen, camera, c, actual, box, options);
     if (!prediction) continue;
     const cv::Mat from = to_mat(prediction->image, cv::Rect(0, 0, box.width, box.height)), to = to_mat(actual, box);
-    const int span = std::max(box.width, box.height) - 2 * options.margin_px;
-    dis->setFinestScale(span >= kHalfResolutionSpanPx ? 1 : 0);
     cv::Mat forward, backward;
     dis->calc(from, to, forward);
     dis->calc(to, from, backward);

@@ -94,6 +94,24 @@ bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen:
 
 namespace {
 
+/// Drops from `ok` every correspondence farther than the closest `fraction` of them (ties at the
+/// threshold kept: the result depends on the distances only, not on the points' order).
+void trim_farthest(const Eigen::MatrixXd& moved, const Eigen::MatrixXd& targets, double fraction, std::vector<char>& ok,
+                   std::vector<double>& distances) {
+  distances.clear();
+  for (long i = 0; i < moved.rows(); ++i)
+    if (ok[static_cast<std::size_t>(i)]) distances.push_back((moved.row(i) - targets.row(i)).squaredNorm());
+  if (distances.empty()) return;
+  const auto keep = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(distances.size())));
+  if (keep >= distances.size()) return;
+  const auto nth = distances.begin() + static_cast<std::ptrdiff_t>(std::max<std::size_t>(keep, 1) - 1);
+  std::nth_element(distances.begin(), nth, distances.end());
+  const double threshold = *nth;
+  for (long i = 0; i < moved.rows(); ++i)
+    if (ok[static_cast<std::size_t>(i)] && (moved.row(i) - targets.row(i)).squaredNorm() > threshold)
+      ok[static_cast<std::size_t>(i)] = 0;
+}
+
 /// Point-to-plane ICP with a small point-to-point term; `correspond(moved points, moved normals,
 /// q, m, ok)` fills each point's target point q, target normal m and whether it is an inlier.
 template <class Correspond>
@@ -105,6 +123,7 @@ RigidFit fit_rigid_with(const Eigen::MatrixXd& points, const Eigen::MatrixXd& no
   const Eigen::Vector3d centre = points.colwise().mean().transpose();
   Eigen::MatrixXd moved(k, 3), moved_normals(k, 3), targets(k, 3), target_normals(k, 3);
   std::vector<char> ok(static_cast<std::size_t>(k));
+  std::vector<double> distances;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
@@ -116,6 +135,7 @@ RigidFit fit_rigid_with(const Eigen::MatrixXd& points, const Eigen::MatrixXd& no
       moved_normals.row(i) = (fit.rotation * normals.row(i).transpose()).transpose();
     }
     correspond(moved, moved_normals, targets, target_normals, ok);
+    if (options.trim_fraction < 1) trim_farthest(moved, targets, options.trim_fraction, ok, distances);
     for (long i = 0; i < k; ++i) {
       if (!ok[static_cast<std::size_t>(i)]) continue;
       const Eigen::Vector3d p = moved.row(i).transpose();
@@ -198,13 +218,33 @@ Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit) 
   return ((points * fit.rotation.transpose()).rowwise() + fit.translation.transpose()).eval();
 }
 
-double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate) {
+namespace {
+
+/// The mean of the smallest `fraction` of `values` (all of them, summed in their order, when it is
+/// 1; otherwise summed sorted, so the result does not depend on nth_element's order). Reorders.
+double mean_of_smallest(std::vector<double>& values, double fraction) {
+  if (values.empty()) return 0.0;
+  const auto keep = std::clamp<std::size_t>(
+      static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(values.size()))), 1, values.size());
+  if (keep < values.size()) {
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(keep - 1), values.end());
+    std::sort(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(keep));
+  }
   double sum = 0;
+  for (std::size_t i = 0; i < keep; ++i) sum += values[i];
+  return sum / static_cast<double>(keep);
+}
+
+}  // namespace
+
+double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate,
+                             double fraction) {
+  std::vector<double> distances(static_cast<std::size_t>(points.rows()));
   for (long i = 0; i < points.rows(); ++i) {
     const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
-    sum += closest ? std::min(gate, closest->distance) : gate;
+    distances[static_cast<std::size_t>(i)] = closest ? std::min(gate, closest->distance) : gate;
   }
-  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
+  return mean_of_smallest(distances, fraction);
 }
 
 Eigen::RowVector3d interpolated_colour(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& colors,
@@ -216,19 +256,16 @@ Eigen::RowVector3d interpolated_colour(const geometry::SurfaceQuery& target, con
 
 double clamped_mean_joint_distance(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors,
                                    const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors,
-                                   double scale, double gate) {
-  double sum = 0;
+                                   double scale, double gate, double fraction) {
+  std::vector<double> distances(static_cast<std::size_t>(points.rows()), gate);
   for (long i = 0; i < points.rows(); ++i) {
     const auto closest = target.closest_point_within(points.row(i).transpose(), gate);
-    if (!closest) {
-      sum += gate;
-      continue;
-    }
+    if (!closest) continue;
     const double colour = (interpolated_colour(target, target_colors, *closest) - colors.row(i)).squaredNorm();
     const double joint = std::sqrt(closest->distance * closest->distance + scale * scale * colour);
-    sum += std::min(gate, joint);
+    distances[static_cast<std::size_t>(i)] = std::min(gate, joint);
   }
-  return points.rows() > 0 ? sum / static_cast<double>(points.rows()) : 0.0;
+  return mean_of_smallest(distances, fraction);
 }
 
 RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to) {

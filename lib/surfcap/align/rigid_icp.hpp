@@ -18,6 +18,9 @@ struct IcpOptions {
   double max_distance = 0.05;          ///< correspondences farther than this (m) are ignored
   double normal_compatibility = 0.5;   ///< minimum cosine between source and target normals
   double point_to_point_weight = 0.1;  ///< relative weight of the point-to-point term
+  /// Each iteration fits only this fraction of the compatible correspondences, the closest ones
+  /// (trimmed ICP, Chetverikov et al. 2002): 1 fits them all.
+  double trim_fraction = 1.0;
 };
 
 struct RigidFit {
@@ -77,8 +80,10 @@ RigidFit fit_rigid(const Eigen::MatrixXd& points, const Eigen::MatrixXd& normals
 /// `points` (k×3) moved by `fit`.
 Eigen::MatrixXd transformed(const Eigen::MatrixXd& points, const RigidFit& fit);
 
-/// Mean over `points` of the distance to the target, clamped at `gate` (unmatched points count as gate).
-double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate);
+/// Mean over `points` of the distance to the target, clamped at `gate` (unmatched points count as
+/// gate); over the closest `fraction` of them only when it is below 1.
+double clamped_mean_distance(const Eigen::MatrixXd& points, const geometry::SurfaceQuery& target, double gate,
+                             double fraction = 1.0);
 
 /// The colour at `point` of the target, interpolated from its per-vertex `colors`.
 Eigen::RowVector3d interpolated_colour(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& colors,
@@ -86,10 +91,11 @@ Eigen::RowVector3d interpolated_colour(const geometry::SurfaceQuery& target, con
 
 /// The same in the joint position-colour space: per point (colour a row of `colors`, 0..1) the
 /// distance √(d² + scale²‖c − c'‖²) to its closest target point (colour c' interpolated from
-/// `target_colors`, per target vertex), clamped at `gate`.
+/// `target_colors`, per target vertex), clamped at `gate`; over the closest `fraction` only when
+/// it is below 1.
 double clamped_mean_joint_distance(const Eigen::MatrixXd& points, const Eigen::MatrixXd& colors,
                                    const geometry::SurfaceQuery& target, const Eigen::MatrixXd& target_colors,
-                                   double scale, double gate);
+                                   double scale, double gate, double fraction = 1.0);
 
 /// The rigid motion best taking `from` onto `to` (rows paired, no scaling; geometry::best_rigid_motion).
 RigidFit best_rigid_motion(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to);

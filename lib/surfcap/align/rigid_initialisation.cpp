@@ -51,6 +51,11 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   icp.max_distance = 2 * options.coarse_distance_height * model.height();
   icp.normal_compatibility = options.normal_compatibility;
   icp.iterations = 12;
+  // The body is not rigid: a limb that swung away from where the parent held it pulls a fit of
+  // every point round the vertical (a walker's legs, a quarter stride apart, turn the whole body by
+  // 45° onto the wrong legs). The closest half of the points — the trunk that moved least — sets
+  // the rigid motion; the limbs are the patches' to find.
+  icp.trim_fraction = 0.5;
   const double gate = icp.max_distance;
   auto start_at = [&](double heading) {
     RigidFit start;
@@ -59,14 +64,19 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
     return start;
   };
   auto score_of = [&](const PointSample& of, const RigidFit& fit) {
+    const double fraction = icp.trim_fraction;
     const Eigen::MatrixXd moved = transformed(of.points, fit);
-    return coloured ? clamped_mean_joint_distance(moved, of.colours, target, *colours.target, colours.scale, gate)
-                    : clamped_mean_distance(moved, target, gate);
+    return coloured
+               ? clamped_mean_joint_distance(moved, of.colours, target, *colours.target, colours.scale, gate, fraction)
+               : clamped_mean_distance(moved, target, gate, fraction);
   };
   auto score = [&](const RigidFit& fit) { return score_of(sample, fit); };
-  // Frames that overlap as they stand keep their heading; only a search compares headings.
+  // Scores, like the fits, are over the closest half of the points: the trunk's fit, in shape and,
+  // with colours, in colour (a body turned half round shows its back where the front was). A
+  // whole-body score would prefer the body turned to lay each leg on the other.
+  // Frames whose trunks overlap as they stand keep their heading; only a search compares headings.
   RigidFit best = fit_rigid(points, point_normals, target, icp, start_at(0.0));
-  if (clamped_mean_distance(transformed(points, best), target, gate) <= 1.5 * model.mean_edge() ||
+  if (score(best) <= 1.5 * model.mean_edge() ||
       options.heading_samples <= 1)
     return best;
   // Coarse to fine: every other heading is fitted to the sparse sample with a few iterations and
