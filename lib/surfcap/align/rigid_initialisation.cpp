@@ -52,9 +52,9 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   icp.normal_compatibility = options.normal_compatibility;
   icp.iterations = 12;
   // The body is not rigid: a limb that swung away from where the parent held it pulls a fit of
-  // every point round the vertical (a walker's legs, a quarter stride apart, turn the whole body by
-  // 45° onto the wrong legs). The closest half of the points — the trunk that moved least — sets
-  // the rigid motion; the limbs are the patches' to find.
+  // every point round the vertical (from one stride to the other a walker's legs trade places, and
+  // turning the whole body lays each leg on the other). The closest half of the points — the trunk
+  // that moved least — sets the rigid motion; the limbs are the patches' to find.
   icp.trim_fraction = 0.5;
   const double gate = icp.max_distance;
   auto start_at = [&](double heading) {
