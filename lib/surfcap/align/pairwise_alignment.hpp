@@ -50,6 +50,10 @@ struct PairwiseOptions {
   /// Search the coarsest patches that fold the template onto itself about their joints
   /// (patch_targets.hpp); not an option: the tree alignment sets it to align a folded frame again.
   bool unfold = false;
+  /// The rigid initialisation fits every point rather than the closest half (rigid_initialisation.hpp);
+  /// not an option: the tree alignment sets it, with unfold, for a frame still folded after the
+  /// joint search.
+  bool whole_body_start = false;
   ColorOptions color;
   PatchColorOptions patch_color;
   PredictionOptions prediction;

@@ -94,22 +94,38 @@ bool compatible_closest_point(const geometry::SurfaceQuery& target, const Eigen:
 
 namespace {
 
+/// How many of `count` values the smallest `fraction` of them is: ⌈fraction · count⌉, at least 1
+/// and at most `count`.
+std::size_t smallest_count(std::size_t count, double fraction) {
+  return std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(count))), 1, count);
+}
+
+/// Reorders `values` (non-empty) so that its first `keep` are its smallest; returns the largest of
+/// them.
+double partition_smallest(std::vector<double>& values, std::size_t keep) {
+  const auto nth = values.begin() + static_cast<std::ptrdiff_t>(keep - 1);
+  std::nth_element(values.begin(), nth, values.end());
+  return *nth;
+}
+
 /// Drops from `ok` every correspondence farther than the closest `fraction` of them (ties at the
 /// threshold kept: the result depends on the distances only, not on the points' order).
 void trim_farthest(const Eigen::MatrixXd& moved, const Eigen::MatrixXd& targets, double fraction, std::vector<char>& ok,
-                   std::vector<double>& distances) {
-  distances.clear();
-  for (long i = 0; i < moved.rows(); ++i)
-    if (ok[static_cast<std::size_t>(i)]) distances.push_back((moved.row(i) - targets.row(i)).squaredNorm());
-  if (distances.empty()) return;
-  const auto keep = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(distances.size())));
-  if (keep >= distances.size()) return;
-  const auto nth = distances.begin() + static_cast<std::ptrdiff_t>(std::max<std::size_t>(keep, 1) - 1);
-  std::nth_element(distances.begin(), nth, distances.end());
-  const double threshold = *nth;
-  for (long i = 0; i < moved.rows(); ++i)
-    if (ok[static_cast<std::size_t>(i)] && (moved.row(i) - targets.row(i)).squaredNorm() > threshold)
-      ok[static_cast<std::size_t>(i)] = 0;
+                   std::vector<double>& squared, std::vector<double>& kept) {
+  squared.resize(static_cast<std::size_t>(moved.rows()));
+  kept.clear();
+  for (long i = 0; i < moved.rows(); ++i) {
+    const auto at = static_cast<std::size_t>(i);
+    if (!ok[at]) continue;
+    squared[at] = (moved.row(i) - targets.row(i)).squaredNorm();
+    kept.push_back(squared[at]);
+  }
+  if (kept.empty()) return;
+  const std::size_t keep = smallest_count(kept.size(), fraction);
+  if (keep == kept.size()) return;
+  const double threshold = partition_smallest(kept, keep);
+  for (std::size_t i = 0; i < squared.size(); ++i)
+    if (ok[i] && squared[i] > threshold) ok[i] = 0;
 }
 
 /// Point-to-plane ICP with a small point-to-point term; `correspond(moved points, moved normals,
@@ -123,7 +139,7 @@ RigidFit fit_rigid_with(const Eigen::MatrixXd& points, const Eigen::MatrixXd& no
   const Eigen::Vector3d centre = points.colwise().mean().transpose();
   Eigen::MatrixXd moved(k, 3), moved_normals(k, 3), targets(k, 3), target_normals(k, 3);
   std::vector<char> ok(static_cast<std::size_t>(k));
-  std::vector<double> distances;
+  std::vector<double> squared, kept;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
     Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
@@ -135,7 +151,7 @@ RigidFit fit_rigid_with(const Eigen::MatrixXd& points, const Eigen::MatrixXd& no
       moved_normals.row(i) = (fit.rotation * normals.row(i).transpose()).transpose();
     }
     correspond(moved, moved_normals, targets, target_normals, ok);
-    if (options.trim_fraction < 1) trim_farthest(moved, targets, options.trim_fraction, ok, distances);
+    if (options.trim_fraction < 1) trim_farthest(moved, targets, options.trim_fraction, ok, squared, kept);
     for (long i = 0; i < k; ++i) {
       if (!ok[static_cast<std::size_t>(i)]) continue;
       const Eigen::Vector3d p = moved.row(i).transpose();
@@ -224,10 +240,9 @@ namespace {
 /// 1; otherwise summed sorted, so the result does not depend on nth_element's order). Reorders.
 double mean_of_smallest(std::vector<double>& values, double fraction) {
   if (values.empty()) return 0.0;
-  const auto keep = std::clamp<std::size_t>(
-      static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(values.size()))), 1, values.size());
+  const std::size_t keep = smallest_count(values.size(), fraction);
   if (keep < values.size()) {
-    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(keep - 1), values.end());
+    partition_smallest(values, keep);
     std::sort(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(keep));
   }
   double sum = 0;

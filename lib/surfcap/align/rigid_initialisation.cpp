@@ -54,11 +54,11 @@ RigidFit rigid_initialisation(const Eigen::MatrixXd& surface, const Eigen::Matri
   // The body is not rigid: a limb that swung away from where the parent held it pulls a fit of
   // every point round the vertical (from one stride to the other a walker's legs trade places, and
   // turning the whole body lays each leg on the other). The closest half of the points — the trunk
-  // that moved least — sets the rigid motion; the limbs are the patches' to find. The second
-  // attempt after a fold (PairwiseOptions::unfold) fits every point instead: a limb swung farther
-  // than the patches reach folded the first attempt; the whole-body fit turns the body part of the
-  // way towards it, and the joint search starts from there.
-  icp.trim_fraction = options.unfold ? 1.0 : 0.5;
+  // that moved least — sets the rigid motion; the limbs are the patches' to find. Asked to
+  // (PairwiseOptions::whole_body_start, a frame still folded after the joint search) it fits every
+  // point instead: the whole-body fit turns the body part of the way towards a long limb folded
+  // as a whole, and the joint search starts from there.
+  icp.trim_fraction = options.whole_body_start ? 1.0 : 0.5;
   const double gate = icp.max_distance;
   auto start_at = [&](double heading) {
     RigidFit start;

@@ -130,10 +130,14 @@ class EdgeAlignment {
     const auto attempt_from = [this](long from) { return attempt(from); };
     const auto verdict_from = [this](const PairwiseResult& r, long from) { return verdict(r, from); };
     // A fold of the template onto itself is first aligned again from the same parent with the
-    // coarsest patches searched about their joints (patch_targets.hpp).
-    if (kept.result && kept.verdict == Verdict::failed &&
-        kept.result->stacked_fraction > state_.options.failure.max_stacked)
-      keep_better(kept, attempt(edge_.parent, true), edge_.parent, verdict_from);
+    // coarsest patches searched about their joints (patch_targets.hpp), from the trunk's rigid
+    // motion and then, if still folded, from the whole body's (rigid_initialisation.hpp).
+    const auto folded = [&] {
+      return kept.result && kept.verdict == Verdict::failed &&
+             kept.result->stacked_fraction > state_.options.failure.max_stacked;
+    };
+    for (const Start start : {Start::unfold, Start::unfold_whole_body})
+      if (folded()) keep_better(kept, attempt(edge_.parent, start), edge_.parent, verdict_from);
     if (kept.verdict != Verdict::pass && !record_.failed_attempts.empty() && costs != nullptr)
       retry_parents(kept, candidate_parents(*costs, edge_.child, edge_.parent, state_.nodes, usable, false),
                     state_.options.recovery, attempt_from, verdict_from);
@@ -191,8 +195,12 @@ class EdgeAlignment {
     return pair;
   }
 
+  /// How an attempt starts: as configured, or a folded frame's joint search from the trunk's or
+  /// the whole body's rigid motion.
+  enum class Start { plain, unfold, unfold_whole_body };
+
   /// One attempt from `from`; nullopt (and a record of why) if it throws, recorded if it fits badly.
-  std::optional<PairwiseResult> attempt(long from, bool unfold = false) {
+  std::optional<PairwiseResult> attempt(long from, Start start = Start::plain) {
     std::shared_ptr<const FrameFeatures> other;
     const FeaturePair pair = feature_pair(from, other);
     try {
@@ -202,7 +210,8 @@ class EdgeAlignment {
           edge_.child, from, grand, parent, grand >= 0 ? state_.positions[static_cast<std::size_t>(grand)] : parent,
           state_.model, query_, state_.options.pairwise);
       PairwiseOptions options = state_.options.pairwise;
-      options.unfold = unfold;
+      options.unfold = start != Start::plain;
+      options.whole_body_start = start == Start::unfold_whole_body;
       PairwiseResult result = align_pair(state_.model, parent, query_, options,
                                          target_.has_colors() ? &target_.colors : nullptr, pair,
                                          predicted.rows() > 0 ? &predicted : nullptr);

@@ -416,14 +416,14 @@ Eigen::MatrixXd folded(const Eigen::MatrixXd& V, double hinge, double band, doub
 TEST(PairwiseAlignment, AFoldedLimbIsFoundAboutItsJoint) {
   // The upper part of the body bends 69° about an elbow: it moves farther than the coarsest patch
   // gate, and from the straight pose its patches fit onto the part below, folding the template
-  // onto itself. The second attempt after a fold (unfold) starts from a rigid fit of every point,
-  // which turns the body part of the way towards the bend (the first attempt's fit of the closest
-  // half holds the part below the elbow and leaves the upper part out of reach). Searched about
-  // their joints, carried by the fitted patches below and bent, they are found where the child
-  // shows them.
+  // onto itself. Started from a rigid fit of every point (whole_body_start: the closest half's fit
+  // holds the part below the elbow and leaves the upper part out of the joint search's reach),
+  // which turns the body part of the way towards the bend, and searched about their joints,
+  // carried by the fitted patches below and bent, they are found where the child shows them.
   const core::Mesh template_mesh = testing::ellipsoid(18, 36);
   PairwiseOptions options;
   options.unfold = true;
+  options.whole_body_start = true;
   const AlignmentTemplate model(template_mesh, options);
   const double hinge = 0.2, band = 0.1, angle = 1.2;
   const core::Mesh target_rest = testing::ellipsoid(23, 44);
