@@ -4,9 +4,9 @@
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # the automatic root, and exit codes. The template is a stride of the walk (--root walk:0, as
 # scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %, p99 4.5 %)
-# leave room above the figures docs/align.md gives for tiny (0.955 % / 1.615 % / 3.99 %): single
-# hard edges move them by tenths of a percent with small changes of the method (RMS 0.929 % to
-# 0.955 %, the worst frame 1.605 % to 1.645 %, the p99 3.89 % to 3.99 % with 29 to 31 coarsest
+# leave room above the figures docs/align.md gives for tiny (0.967 % / 1.710 % / 4.05 %): single
+# hard edges move them by tenths of a percent with small changes of the method (RMS 0.941 % to
+# 0.967 %, the worst frame 1.667 % to 1.765 %, the p99 3.93 % to 4.05 % with 29 to 31 coarsest
 # patches), and the sanitizer build synthesises another tiny capture.
 set -euo pipefail
 build=$1
