@@ -264,9 +264,9 @@ core::Mesh striding_body(int trunk_rings, double stride) {
 }
 
 TEST(RigidInitialisation, LegsInTheOtherStrideDoNotTurnTheBody) {
-  // From one stride to the other the legs trade places along the walk: turned about the vertical
-  // by about 50°, the parent's legs lie on the child's, and a fit of every point turns the whole
-  // body that way (the legs would then be fitted each onto the other). The trunk did not turn.
+  // From one stride to the other the legs trade places along the walk: turned about the vertical,
+  // the parent's legs lie on the child's, and a fit of every point turns the whole body that way
+  // (the legs would then be fitted each onto the other). The trunk did not turn.
   const core::Mesh parent = striding_body(24, 0.5);
   const core::Mesh child = striding_body(29, -0.5);
   const geometry::SurfaceQuery target(child.V, child.F);
