@@ -4,9 +4,12 @@
 # height) and register CPU time per capture. Run it before and after a change to the alignment and
 # compare the tables: a change that helps one capture and hurts another is not a gain.
 #
-# usage: scripts/align_suite.sh [--build DIR] [--out DIR] [--threads T] [--spread] [CAPTURE...]
+# usage: scripts/align_suite.sh [--build DIR] [--out DIR] [--threads T] [--spread] [--option ARG]... [CAPTURE...]
 #   CAPTURE: tiny demo studio_tiny studio_tiny_noimg studio_tiny_seed2 studio_tiny_seed3
-#            dance dance_art dance_art_fine dance_hull studio (default: all but studio)
+#            dance dance_art dance_art_fine dance_hull studio studio_noimg (default: all but the
+#            two studio rows)
+#   --option ARG: one more argument for every `surfcap-align run` and `register` (repeat it for
+#   each word, e.g. --option --coverage-weight --option off), to measure a candidate setting.
 #   The captures are kept in OUT/captures (made when missing), the alignments in OUT/<capture>
 #   (made again every run). The dance captures need the dance data (SURFCAP_DANCE_DATA, default
 #   ../shared/data/dance); without it they are skipped with a message.
@@ -22,13 +25,15 @@ out=${TMPDIR:-/tmp}/align_suite
 threads=2
 spread=0
 captures=()
+extra=()
 while [ $# -gt 0 ]; do
   case $1 in
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
     --spread) spread=1; shift ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    --option) extra+=("$2"); shift 2 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     -*) echo "unknown option $1" >&2; exit 2 ;;
     *) captures+=("$1"); shift ;;
   esac
@@ -44,7 +49,8 @@ fi
 data=${SURFCAP_DANCE_DATA:-$here/../shared/data/dance}
 for name in "${captures[@]}"; do
   case $name in
-    tiny|demo|studio|studio_tiny|studio_tiny_noimg|studio_tiny_seed[0-9]*|dance|dance_art|dance_art_fine|dance_hull) ;;
+    tiny|demo|studio|studio_noimg|studio_tiny|studio_tiny_noimg|studio_tiny_seed[0-9]*|dance|dance_art|dance_art_fine|\
+      dance_hull) ;;
     *) echo "unknown capture $name (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -120,8 +126,10 @@ for name in "${captures[@]}"; do
   source_name=$name options=() register_options=()
   case $name in
     studio_tiny_noimg) source_name=studio_tiny options=(--no-images) register_options=(--no-images) ;;
+    studio_noimg) source_name=studio options=(--no-images) register_options=(--no-images) ;;
     tiny|demo) options=(--root walk:0) ;;
   esac
+  options+=(${extra[@]+"${extra[@]}"}) register_options+=(${extra[@]+"${extra[@]}"})
   capture=$(make_capture "$source_name")
   rm -rf "${out:?}/${name:?}"
   echo "$name: surfcap-align run --capture $capture ${options[*]:-}" >&2
