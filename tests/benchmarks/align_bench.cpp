@@ -14,6 +14,7 @@
 #include "surfcap/align/image_features.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/core/report.hpp"
+#include "surfcap/render/camera.hpp"
 
 namespace {
 
@@ -48,6 +49,12 @@ void pairwise_alignment(benchmark::State& state, bool colours, int rings, int se
     target_colours = part_colours(target_rest.V);
   }
   const align::PairwiseOptions options;
+  // The calibration every capture has: eight cameras around the body (silhouette evidence of the
+  // coverage pulls and the uncovered check).
+  const std::vector<render::Camera> cameras =
+      render::ring_cameras(8, 4.0, 0.0, Eigen::Vector3d::Zero(), 40.0, 640, 480);
+  align::FeaturePair views;
+  views.cameras = &cameras;
   const Eigen::MatrixXd truth = align::testing::deform_points(template_mesh.V, 0.6, 0.5, {0.05, 0.02, -0.04});
   double tetrahedralisation = 0, matching = 0, factorisation = 0, solves = 0, total = 0, rms = 0;
   long iterations = 0, colour_patches = 0;
@@ -56,7 +63,7 @@ void pairwise_alignment(benchmark::State& state, bool colours, int rings, int se
     const align::AlignmentTemplate model(template_mesh, options);  // tetrahedralisation + patches
     const geometry::SurfaceQuery target(target_V, target_rest.F);
     const align::PairwiseResult result =
-        align::align_pair(model, model.deformer().rest(), target, options, colours ? &target_colours : nullptr);
+        align::align_pair(model, model.deformer().rest(), target, options, colours ? &target_colours : nullptr, views);
     benchmark::DoNotOptimize(result.positions.data());
     total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     tetrahedralisation += model.seconds_tetrahedralisation();

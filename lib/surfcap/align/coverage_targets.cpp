@@ -7,15 +7,18 @@
 #include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/align/pairwise_checks.hpp"
+#include "surfcap/align/silhouette_evidence.hpp"
 
 namespace surfcap::align {
 
 CoverageTargets::CoverageTargets(const AlignmentTemplate& model, const geometry::SurfaceQuery& target,
-                                 const ObservedSurface& observed, const PairwiseOptions& options)
+                                 const ObservedSurface& observed, const PairwiseOptions& options,
+                                 const std::vector<render::Camera>* cameras)
     : model_(model),
       target_(target),
       observed_(observed),
       options_(options),
+      cameras_(cameras),
       target_normals_(core::vertex_normals(target.vertices(), target.faces())) {}
 
 void CoverageTargets::add(const Eigen::MatrixXd& surface, double reach, TargetSet& targets,
@@ -26,6 +29,7 @@ void CoverageTargets::add(const Eigen::MatrixXd& surface, double reach, TargetSe
   const std::vector<long> far = far_from_vertices(target_.vertices(), surface, gate);
   if (!far.empty()) {
     const geometry::SurfaceQuery aligned(surface, model_.mesh().F);
+    std::optional<SilhouetteEvidence> evidence;
     for (const long i : far) {
       if (!observed_.observed_vertex(i)) continue;
       const Eigen::Vector3d x = target_.vertices().row(i).transpose();
@@ -35,6 +39,10 @@ void CoverageTargets::add(const Eigen::MatrixXd& surface, double reach, TargetSe
         continue;
       if (aligned.face_normal(closest->face).dot(target_normals_.row(i).transpose()) < options_.normal_compatibility)
         continue;
+      if (cameras_ != nullptr && !cameras_->empty()) {
+        if (!evidence) evidence.emplace(*cameras_, surface, model_.mesh().F, gate);
+        if (!evidence->outside(x)) continue;
+      }
       pulls.push_back({closest->face, closest->barycentric, x});
     }
   }

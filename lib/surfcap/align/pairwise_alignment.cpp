@@ -33,7 +33,7 @@ class PairwiseSchedule {
         observed_(target.vertices(), target.faces()),
         patches_(model, target, observed_, target_colors, options),
         dense_(model, target, observed_, target_colors, options),
-        coverage_(model, target, observed_, options),
+        coverage_(model, target, observed_, options, features.cameras),
         creases_(model, target, observed_, options.crease, options.normal_compatibility) {
     result_.predicted = predicted != nullptr;
     result_.holes = observed_.holes();
@@ -187,7 +187,7 @@ class PairwiseSchedule {
       for (long i = 0; i < target_.vertices().rows(); ++i) counted.push_back(observed_.observed_vertex(i) ? 1 : 0);
     result_.uncovered_fraction =
         uncovered_fraction(target_, aligned, model_.mesh().F, options_.checks.uncovered_distance_edges * model_.mean_edge(),
-                           observed_.partial() ? &counted : nullptr);
+                           observed_.partial() ? &counted : nullptr, features_.cameras);
     result_.stacked_fraction = stacked_fraction(model_.mesh().V, aligned, model_.mesh().F,
                                                 options_.checks.stacked_distance_edges * model_.mean_edge(),
                                                 options_.checks.stacked_rest_distance_height * model_.height());

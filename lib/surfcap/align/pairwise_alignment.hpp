@@ -147,6 +147,10 @@ struct FeaturePair {
   /// align_pair aligns to): enable the flow iterations.
   const TemplateAppearance* appearance = nullptr;
   const ChildViews* child_views = nullptr;
+  /// The capture's cameras (images or not): the coverage pulls and the uncovered check count only
+  /// reconstruction vertices that some camera sees outside the aligned template's silhouette
+  /// (silhouette_evidence.hpp). Null or empty: every far vertex counts.
+  const std::vector<render::Camera>* cameras = nullptr;
 };
 
 /// Aligns the template from `parent_positions` (all deformer vertices) onto `target` (the child's

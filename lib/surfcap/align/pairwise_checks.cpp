@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "surfcap/align/pairwise_alignment.hpp"
+#include "surfcap/align/silhouette_evidence.hpp"
 #include "surfcap/core/mesh.hpp"
 #include "surfcap/geometry/mesh_topology.hpp"
 #include "surfcap/geometry/vertex_grid.hpp"
@@ -46,15 +48,19 @@ std::vector<long> far_from_vertices(const Eigen::MatrixXd& points, const Eigen::
 }
 
 double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& aligned,
-                          const Eigen::MatrixXi& F, double gate, const std::vector<char>* counted) {
+                          const Eigen::MatrixXi& F, double gate, const std::vector<char>* counted,
+                          const std::vector<render::Camera>* cameras) {
   const std::vector<long> far = far_from_vertices(target.vertices(), aligned, gate);
   long uncovered = 0;
   if (!far.empty()) {
     const geometry::SurfaceQuery query(aligned, F);
+    std::optional<SilhouetteEvidence> evidence;
+    if (cameras != nullptr && !cameras->empty()) evidence.emplace(*cameras, aligned, F, gate);
     for (const long i : far) {
       if (counted && !(*counted)[static_cast<std::size_t>(i)]) continue;
-      const auto closest = query.closest_point_within(target.vertices().row(i).transpose(), gate);
-      if (!closest || closest->distance > gate) ++uncovered;
+      const Eigen::Vector3d x = target.vertices().row(i).transpose();
+      const auto closest = query.closest_point_within(x, gate);
+      if ((!closest || closest->distance > gate) && (!evidence || evidence->outside(x))) ++uncovered;
     }
   }
   const long total = counted ? static_cast<long>(std::count(counted->begin(), counted->end(), 1))

@@ -1,7 +1,8 @@
 #pragma once
 // What an aligned pair is checked for, and when an edge of the tree has failed. The residual
 // (aligned template → reconstruction) is one-sided; two failures it cannot see are checked too: a
-// reconstruction left uncovered (a limb collapsed onto another leaves the other one uncovered)
+// reconstruction left uncovered (a limb collapsed onto another leaves the other one uncovered;
+// with cameras, only where they show it: silhouette_evidence.hpp)
 // and a template stacked onto itself (a hand pushed up its forearm lies on the forearm's stretch
 // of the reconstruction with a normal residual).
 
@@ -13,13 +14,15 @@
 
 #include "surfcap/core/option_table.hpp"
 #include "surfcap/geometry/surface_query.hpp"
+#include "surfcap/render/camera.hpp"
 
 namespace surfcap::align {
 
 struct PairwiseResult;
 
 struct PairwiseCheckOptions {
-  /// A reconstruction vertex farther than this from the aligned template (mean edges) is uncovered.
+  /// A reconstruction vertex farther than this from the aligned template (mean edges) is uncovered;
+  /// with cameras, only when some camera sees it as far beyond the template's silhouette.
   double uncovered_distance_edges = 1.5;
   /// Stacked layers: two aligned template vertices closer than `stacked_distance_edges`, facing
   /// the same way (normals' cosine above 0.5), that lie more than `stacked_rest_distance_height`
@@ -31,7 +34,8 @@ struct PairwiseCheckOptions {
   static void table(Self& self, Table& t) {
     using core::Range;
     t.field("uncovered_distance_edges", self.uncovered_distance_edges,
-            "A reconstruction vertex farther than this from the aligned template is uncovered (mean edges)",
+            "A reconstruction vertex farther than this from the aligned template (and, with cameras, beyond its "
+            "silhouette) is uncovered (mean edges)",
             Range::above(0));
     t.field("stacked_distance_edges", self.stacked_distance_edges,
             "Aligned template vertices closer than this may be stacked layers (mean edges)", Range::above(0));
@@ -69,9 +73,12 @@ struct FailureOptions {
 Eigen::VectorXd surface_distances(const Eigen::MatrixXd& surface, const geometry::SurfaceQuery& target);
 
 /// Fraction of the target's vertices farther than `gate` from the surface (`aligned`, `F`): the
-/// posed template. With `counted` (per target vertex), of the counted vertices only.
+/// posed template. With `counted` (per target vertex), of the counted vertices only. With
+/// `cameras` (not empty), a far vertex is uncovered only where some camera sees it outside the
+/// posed template's silhouette (silhouette_evidence.hpp): phantom volume of a visual hull is not.
 double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::MatrixXd& aligned,
-                          const Eigen::MatrixXi& F, double gate, const std::vector<char>* counted = nullptr);
+                          const Eigen::MatrixXi& F, double gate, const std::vector<char>* counted = nullptr,
+                          const std::vector<render::Camera>* cameras = nullptr);
 
 /// The rows of `points` with no row of `V` within `gate` (ascending): the only points whose
 /// closest point on a surface with vertices `V` can lie farther than `gate` (a surface is never

@@ -58,6 +58,7 @@ struct TreeState {
   const MotionPredictor& predictor;
   Registration& registration;
   const TemplateAppearance* appearance = nullptr;
+  const std::vector<render::Camera> cameras;  ///< the capture's calibration (empty: none)
   bool use_features = false;
   std::vector<int> node_depth;
   std::vector<Eigen::MatrixXd> positions;
@@ -70,7 +71,7 @@ struct TreeState {
   TreeState(const core::Capture& c, const std::vector<NodeFrame>& n, const AlignmentTree& t, const TreePartition& p,
             const RegisterOptions& o, const AlignmentTemplate& m, const MotionPredictor& predict, Registration& r)
       : capture(c), nodes(n), tree(t), partition(p), options(o), model(m), predictor(predict), registration(r),
-        node_depth(n.size(), 0), positions(n.size()), aligned(n.size(), 0), features(n.size()),
+        cameras(capture_cameras(c)), node_depth(n.size(), 0), positions(n.size()), aligned(n.size(), 0), features(n.size()),
         features_ready(n.size(), 0) {
     for (const auto& edge : t.edges) node_depth[static_cast<std::size_t>(edge.child)] = edge.depth;
   }
@@ -180,6 +181,7 @@ class EdgeAlignment {
   /// and come from TreeState::alternative_features (held by `other`).
   FeaturePair feature_pair(long from, std::shared_ptr<const FrameFeatures>& other) const {
     FeaturePair pair;
+    pair.cameras = &state_.cameras;
     if (state_.use_features) {
       pair.parent = &state_.features[static_cast<std::size_t>(from)];
       if (from != edge_.parent) {
