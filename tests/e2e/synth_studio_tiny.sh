@@ -59,6 +59,7 @@ db="$work/a/ground_truth/database"
   --blobs 1 --log-level warn 2> "$work/r.log" || { cat "$work/r.log"; fail "surfcap-remesh with artefacts"; }
 [ -s "$work/r/ground_truth/walk/correspondence/000001.status.npy" ] || fail "surfcap-remesh wrote no status"
 [ -s "$work/r/capture.json" ] || fail "surfcap-remesh wrote no capture.json"
+[ -s "$work/r/cameras.json" ] || fail "surfcap-remesh wrote no calibration with its studio models"
 n=$(perl -ne 'print $1 if /^element vertex (\d+)/' "$work/r/walk/mesh/000000.ply")
 [ "$(stat -c %s "$work/r/ground_truth/walk/correspondence/000000.status.npy")" -eq $((128 + n)) ] \
   || fail "status.npy does not hold one byte per vertex"

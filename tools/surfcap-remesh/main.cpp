@@ -163,7 +163,6 @@ void run(const Arguments& args, const core::ToolApp& app) {
     truth_json["sequences"][0]["correspondence_status"] = args.sequence + "/correspondence/{frame:06d}.status.npy";
     truth_json["surface_tolerance"] = args.visual_hull ? studio_options(args, floor).surface_tolerance : 0.0;
     truth_json["status_codes"] = {{"on_surface", 0}, {"phantom", 1}, {"outlier", 2}, {"blob", 3}, {"rough", 4}};
-    render::write_cameras(out / "ground_truth" / "studio_cameras.json", cameras);
   }
   core::write_json_file(out / "ground_truth" / "truth.json", truth_json);
   core::Capture capture;
@@ -171,6 +170,8 @@ void run(const Arguments& args, const core::ToolApp& app) {
   capture.name = args.sequence;
   capture.fps = args.fps;
   capture.sequences.push_back({args.sequence, args.sequence + "/mesh/{frame:06d}.ply", "", 0, count});
+  // A studio's reconstructions come with the calibration that made them (no images).
+  for (const render::Camera& camera : cameras) capture.cameras.push_back(render::to_capture_camera(camera));
   core::write_capture(capture);  // last: its presence means complete
   const auto [low, high] = std::minmax_element(vertex_counts.begin(), vertex_counts.end());
   spdlog::info("{} frames remeshed ({}–{} vertices, source {}) → {}/capture.json", count, *low, *high,
