@@ -65,7 +65,7 @@ perl -MJSON::PP -e '
       next;
     }
     die "$name has no dense correspondences\n" unless $fr->{correspondences}{dense} > 0;
-    # Phantom volume lies inside the aligned template's silhouettes: it is not uncovered
+    # Phantom volume lies inside the silhouettes of the aligned template: it is not uncovered
     # reconstruction (0.04 % at most measured; counting it gave frames above 1 %).
     die "$name: uncovered fraction $fr->{uncovered_fraction}\n" if $fr->{uncovered_fraction} > 0.005;
     for my $a (@{$fr->{failed_attempts}}) {
