@@ -3,10 +3,10 @@
 # register, with the camera images (SIFT features, appearance flow); checks the aligned database
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # the automatic root, and exit codes. The template is a stride of the walk (--root walk:0, as
-# scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %, p99 4.5 %)
-# leave room above the figures docs/align.md gives for tiny (0.967 % / 1.710 % / 4.05 %): single
-# hard edges move them by tenths of a percent with small changes of the method (RMS 0.941 % to
-# 0.967 %, the worst frame 1.667 % to 1.765 %, the p99 3.93 % to 4.05 % with 29 to 31 coarsest
+# scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %, p99 5 %)
+# leave room above the figures docs/align.md gives for tiny (0.955 % / 1.730 % / 4.03 %): single
+# hard edges move them by tenths of a percent with small changes of the method (RMS 0.939 % to
+# 1.034 %, the worst frame 1.730 % to 1.937 %, the p99 3.92 % to 4.34 % with 29 to 31 coarsest
 # patches), and the sanitizer build synthesises another tiny capture.
 set -euo pipefail
 build=$1
@@ -33,8 +33,8 @@ perl -MJSON::PP -e '
   die "RMS error above 1.8% of the height\n" if $g->{rms_percent_height} > 1.8;
   die "worst frame above 3.6% of the height\n" if $g->{worst_frame_rms_percent_height} > 3.6;
   printf "p99 vertex error %.3f%%\n", $g->{p99_vertex_error_percent_height};
-  die "p99 vertex error above 4.5% of the height or below the RMS\n"
-    if $g->{p99_vertex_error_percent_height} > 4.5 || $g->{p99_vertex_error_percent_height} < $g->{rms_percent_height};
+  die "p99 vertex error above 5% of the height or below the RMS\n"
+    if $g->{p99_vertex_error_percent_height} > 5 || $g->{p99_vertex_error_percent_height} < $g->{rms_percent_height};
   die "root appearance covers too little\n" unless $r->{summary}{appearance_coverage} > 0.5;
   my ($root) = grep { $_->{depth} == 0 } @{$g->{by_depth}};
   die "root frame error above 0.2% (it is the template itself)\n" if $root->{rms_percent_height} > 0.2;
