@@ -51,6 +51,7 @@ SilhouetteEvidence::SilhouetteEvidence(const std::vector<render::Camera>& camera
 }
 
 bool SilhouetteEvidence::outside(const Eigen::Vector3d& x) const {
+  if (views_.empty()) return true;
   for (const View& view : views_) {
     const double z = view.camera.to_camera(x).z();
     if (!(z > 0)) continue;

@@ -26,6 +26,8 @@ class SilhouetteEvidence {
                      double gate);
   /// Does some camera see `x` (in front of it, inside its image) farther than `gate` (at x's
   /// depth) outside the surface's silhouette? Then x is farther than `gate` from the surface.
+  /// True as well when no camera has the surface in its image: a calibration that does not see
+  /// the body (another frame of reference) tells nothing, and every far point counts.
   bool outside(const Eigen::Vector3d& x) const;
 
  private:

@@ -56,6 +56,17 @@ TEST(SilhouetteEvidence, ACameraThatDoesNotSeeThePointTellsNothing) {
   EXPECT_FALSE(evidence.outside({0.0, 0.0, 5.0}));
 }
 
+TEST(SilhouetteEvidence, CamerasThatSeeNoneOfTheSurfaceTellNothing) {
+  // The ring moved 100 m away (a calibration in another frame of reference): no camera has the
+  // sphere in its image, so every point far from it counts, phantom bulge included.
+  const core::Mesh sphere = testing::make_sphere(48, 96);
+  std::vector<render::Camera> away = four_cameras();
+  for (render::Camera& camera : away) camera.t += Eigen::Vector3d(100, 0, 0);
+  const SilhouetteEvidence evidence(away, sphere.V, sphere.F, kGate);
+  EXPECT_TRUE(evidence.outside(at(1.12, 45)));
+  EXPECT_TRUE(evidence.outside(at(1.12, 0)));
+}
+
 TEST(SilhouetteEvidence, TheUncoveredCheckCountsOnlyWhatSomeCameraShows) {
   const core::Mesh sphere = testing::make_sphere(48, 96);
   // The reconstruction: two small triangles 0.12 off the sphere, one in the visual hull's phantom
