@@ -54,13 +54,15 @@ double uncovered_fraction(const geometry::SurfaceQuery& target, const Eigen::Mat
   long uncovered = 0;
   if (!far.empty()) {
     const geometry::SurfaceQuery query(aligned, F);
-    std::optional<SilhouetteEvidence> evidence;
-    if (cameras != nullptr && !cameras->empty()) evidence.emplace(*cameras, aligned, F, gate);
+    const bool use_cameras = cameras != nullptr && !cameras->empty();
+    std::optional<SilhouetteEvidence> evidence;  // rendered for the first vertex beyond the gate
     for (const long i : far) {
       if (counted && !(*counted)[static_cast<std::size_t>(i)]) continue;
       const Eigen::Vector3d x = target.vertices().row(i).transpose();
       const auto closest = query.closest_point_within(x, gate);
-      if ((!closest || closest->distance > gate) && (!evidence || evidence->outside(x))) ++uncovered;
+      if (closest && closest->distance <= gate) continue;
+      if (use_cameras && !evidence) evidence.emplace(*cameras, aligned, F, gate);
+      if (!use_cameras || evidence->outside(x)) ++uncovered;
     }
   }
   const long total = counted ? static_cast<long>(std::count(counted->begin(), counted->end(), 1))
