@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/surface_mesh_copy.hpp"
 #include "surfcap/geometry/mesh_topology.hpp"
 
 namespace surfcap::synth {
@@ -275,20 +276,7 @@ core::Mesh mesh_implicit_surface(const BodyField& field, int target_vertices, in
     if (std::abs(ratio - 1.0) < 0.05) break;
     edge *= std::sqrt(ratio);
   }
-  output.collect_garbage();
-  core::Mesh mesh;
-  mesh.V.resize(static_cast<long>(output.number_of_vertices()), 3);
-  for (auto v : output.vertices()) {
-    const Point& p = output.point(v);
-    mesh.V.row(static_cast<long>(v.idx())) << p.x(), p.y(), p.z();
-  }
-  mesh.F.resize(static_cast<long>(output.number_of_faces()), 3);
-  for (auto f : output.faces()) {
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(output.halfedge(f), output))
-      mesh.F(static_cast<long>(f.idx()), k++) = static_cast<int>(v.idx());
-  }
-  return mesh;
+  return core::copy_surface_mesh(output);
 }
 
 Body make_body(const BodyOptions& options) {

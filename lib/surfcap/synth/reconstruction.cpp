@@ -9,6 +9,7 @@
 #include <random>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/surface_mesh_copy.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 
 namespace surfcap::synth {
@@ -31,22 +32,6 @@ SurfaceMesh to_surface_mesh(const core::Mesh& mesh) {
   return result;
 }
 
-core::Mesh to_mesh(SurfaceMesh& mesh) {
-  mesh.collect_garbage();
-  core::Mesh result;
-  result.V.resize(static_cast<long>(mesh.number_of_vertices()), 3);
-  for (auto v : mesh.vertices()) {
-    const Point& p = mesh.point(v);
-    result.V.row(static_cast<long>(v.idx())) << p.x(), p.y(), p.z();
-  }
-  result.F.resize(static_cast<long>(mesh.number_of_faces()), 3);
-  for (auto f : mesh.faces()) {
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
-      result.F(static_cast<long>(f.idx()), k++) = static_cast<int>(v.idx());
-  }
-  return result;
-}
 
 /// Barycentric coordinates of a point on the triangle, inside it despite rounding: ≥ 0, sum 1.
 Eigen::Vector3d clamped(Eigen::Vector3d barycentric) {
@@ -84,13 +69,13 @@ core::Mesh remesh_truth(const core::Mesh& truth, double edge, std::uint64_t seed
   PMP::random_perturbation(mesh, 0.3 * edge,
                            PMP::parameters::random_seed(static_cast<unsigned>(engine() & 0x7fffffff)).do_project(true));
   PMP::isotropic_remeshing(faces(mesh), target_edge, mesh, PMP::parameters::number_of_iterations(options.iterations));
-  return to_mesh(mesh);
+  return core::copy_surface_mesh(mesh);
 }
 
 core::Mesh remesh_surface(const core::Mesh& input, double edge, int iterations) {
   SurfaceMesh mesh = to_surface_mesh(input);
   PMP::isotropic_remeshing(faces(mesh), edge, mesh, PMP::parameters::number_of_iterations(iterations));
-  return to_mesh(mesh);
+  return core::copy_surface_mesh(mesh);
 }
 
 void closest_truth_points(const core::Mesh& truth, const Eigen::MatrixXd& points, std::vector<int>& face,

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "surfcap/core/error.hpp"
+#include "surfcap/core/surface_mesh_copy.hpp"
 #include "surfcap/geometry/mean_edge_length.hpp"
 #include "surfcap/geometry/surface_query.hpp"
 
@@ -48,20 +49,10 @@ RemeshResult remesh(const core::Mesh& source, const RemeshOptions& options) {
         SurfaceMesh::null_face())
       throw core::internal_error("remesh: the surface is not manifold at face " + std::to_string(f));
   PMP::isotropic_remeshing(faces(mesh), edge, mesh, PMP::parameters::number_of_iterations(options.iterations));
-  mesh.collect_garbage();
 
   RemeshResult result;
+  result.mesh = core::copy_surface_mesh(mesh);
   core::Mesh& out = result.mesh;
-  out.V.resize(static_cast<long>(mesh.number_of_vertices()), 3);
-  for (auto v : mesh.vertices()) {
-    const Point& p = mesh.point(v);
-    out.V.row(static_cast<long>(v.idx())) << p.x(), p.y(), p.z();
-  }
-  out.F.resize(static_cast<long>(mesh.number_of_faces()), 3);
-  for (auto f : mesh.faces()) {
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) out.F(static_cast<long>(f.idx()), k++) = static_cast<int>(v.idx());
-  }
   // Snap onto the (unperturbed) source surface and record where each vertex lies on it.
   const geometry::SurfaceQuery query(source.V, source.F);
   result.face.resize(static_cast<std::size_t>(out.V.rows()));
