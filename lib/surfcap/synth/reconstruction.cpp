@@ -32,7 +32,6 @@ SurfaceMesh to_surface_mesh(const core::Mesh& mesh) {
   return result;
 }
 
-
 /// Barycentric coordinates of a point on the triangle, inside it despite rounding: ≥ 0, sum 1.
 Eigen::Vector3d clamped(Eigen::Vector3d barycentric) {
   barycentric = barycentric.cwiseMax(0.0);
