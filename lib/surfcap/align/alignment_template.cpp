@@ -7,6 +7,7 @@
 #include "surfcap/align/creases.hpp"
 #include "surfcap/align/pairwise_alignment.hpp"
 #include "surfcap/geometry/mean_edge_length.hpp"
+#include "surfcap/render/rasterizer.hpp"
 
 namespace surfcap::align {
 
@@ -26,12 +27,14 @@ AlignmentTemplate::AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& opt
     : AlignmentTemplate(as_observed(std::move(mesh)), options, deformer) {}
 
 AlignmentTemplate::AlignmentTemplate(TemplateSurface surface, const PairwiseOptions& options,
-                                     const DeformerOptions& deformer)
+                                     const DeformerOptions& deformer, const std::vector<render::Camera>& cameras)
     : seconds_tetrahedralisation_(0),
       mesh_(std::move(surface.mesh)),
       deformer_([&] {
+        const std::vector<char> unseen = unseen_vertices(mesh_.V, mesh_.F, cameras);
+        unseen_vertices_ = std::count(unseen.begin(), unseen.end(), 1);
         const auto start = std::chrono::steady_clock::now();
-        VolumeDeformer built(mesh_, deformer);
+        VolumeDeformer built(mesh_, deformer, unseen);
         seconds_tetrahedralisation_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return built;
       }()),
@@ -53,6 +56,20 @@ AlignmentTemplate::AlignmentTemplate(TemplateSurface surface, const PairwiseOpti
 double AlignmentTemplate::unobserved_fraction() const {
   const long n = mesh_.vertex_count();
   return n > 0 ? static_cast<double>(n - observed_vertices_) / static_cast<double>(n) : 0.0;
+}
+
+std::vector<char> unseen_vertices(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                  const std::vector<render::Camera>& cameras) {
+  std::vector<char> unseen(static_cast<std::size_t>(V.rows()), 1);
+  bool any = false;
+  for (const render::Camera& camera : cameras)
+    for (const int f : render::render_visibility(V, F, camera).face) {
+      if (f < 0) continue;
+      any = true;
+      for (int k = 0; k < 3; ++k) unseen[static_cast<std::size_t>(F(f, k))] = 0;
+    }
+  if (!any) unseen.clear();
+  return unseen;
 }
 
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings) {

@@ -1,7 +1,8 @@
 #pragma once
 // What is computed once per template and shared (read-only) by every pairwise alignment: the
 // deformation model, the patch hierarchy, smoothed colours, the rest surface's crease vertices,
-// and which of its vertices and faces are observed (template_closing.hpp).
+// which of its vertices and faces are observed (template_closing.hpp) and which vertices the
+// root frame's cameras see.
 
 #include <Eigen/Core>
 
@@ -12,6 +13,7 @@
 #include "surfcap/align/template_closing.hpp"
 #include "surfcap/align/volume_deformer.hpp"
 #include "surfcap/core/mesh.hpp"
+#include "surfcap/render/camera.hpp"
 
 namespace surfcap::align {
 
@@ -21,8 +23,10 @@ class AlignmentTemplate {
  public:
   AlignmentTemplate(core::Mesh mesh, const PairwiseOptions& options, const DeformerOptions& deformer = {});
   /// A template whose vertices and faces beyond `surface.observed_*` close the root
-  /// reconstruction's holes: unobserved, no data target is set on them.
-  AlignmentTemplate(TemplateSurface surface, const PairwiseOptions& options, const DeformerOptions& deformer = {});
+  /// reconstruction's holes: unobserved, no data target is set on them. `cameras`: the root
+  /// frame's; the volume under the surface none of them sees is soft (VolumeDeformer).
+  AlignmentTemplate(TemplateSurface surface, const PairwiseOptions& options, const DeformerOptions& deformer = {},
+                    const std::vector<render::Camera>& cameras = {});
   const core::Mesh& mesh() const { return mesh_; }
   const VolumeDeformer& deformer() const { return deformer_; }
   const std::vector<PatchSet>& patches() const { return patches_; }
@@ -38,6 +42,8 @@ class AlignmentTemplate {
   bool closed_by_fill() const { return observed_vertices_ < mesh_.vertex_count(); }
   /// Share of the template's surface vertices on the closing surface (0: the root frame was closed).
   double unobserved_fraction() const;
+  /// Template vertices no root camera sees (0 without cameras, or when none sees the template).
+  long unseen_vertex_count() const { return unseen_vertices_; }
   double mean_edge() const { return mean_edge_; }
   double height() const { return height_; }  ///< extent along y at rest (m)
   /// The factor of every target weight: the mean edge over kReferenceEdgeHeight of the height,
@@ -54,7 +60,8 @@ class AlignmentTemplate {
   double seconds_tetrahedralisation() const { return seconds_tetrahedralisation_; }
 
  private:
-  double seconds_tetrahedralisation_ = 0;  // before deformer_: its initialiser sets it
+  double seconds_tetrahedralisation_ = 0;  // before deformer_: its initialiser sets these two
+  long unseen_vertices_ = 0;
   core::Mesh mesh_;
   VolumeDeformer deformer_;
   std::vector<PatchSet> patches_;
@@ -64,6 +71,12 @@ class AlignmentTemplate {
   double height_ = 0;
   long observed_vertices_ = 0, observed_faces_ = 0;
 };
+
+/// Per vertex of (V, F): 1 where no face around it is visible in any camera (render_visibility at
+/// the camera's resolution). Empty when no camera sees a face of the mesh: a calibration in another
+/// frame of reference, or none, tells nothing about what was seen.
+std::vector<char> unseen_vertices(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
+                                  const std::vector<render::Camera>& cameras);
 
 /// Vertex colours averaged with their neighbours' `rings` times (uniform weights).
 Eigen::MatrixXd smoothed_vertex_colors(const Eigen::MatrixXi& F, const Eigen::MatrixXd& colors, int rings);

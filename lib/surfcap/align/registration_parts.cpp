@@ -188,7 +188,9 @@ void write_registration_part(const std::filesystem::path& path, const PartLabel&
     document["template"] = {{"deformer", summary.deformer_model}, {"volume_vertices", summary.volume_vertices},
                             {"elements", summary.elements}, {"seconds", summary.seconds_template},
                             {"appearance_coverage", summary.appearance_coverage},
-                            {"observed_vertices", summary.template_observed_vertices}};
+                            {"observed_vertices", summary.template_observed_vertices},
+                            {"unseen_vertices", summary.template_unseen_vertices},
+                            {"softened_elements", summary.softened_elements}};
   core::write_json_file(path, document);
 }
 
@@ -220,6 +222,8 @@ RegistrationPart read_registration_part(const std::filesystem::path& path, const
       t.at("seconds").get_to(summary->seconds_template);
       t.at("appearance_coverage").get_to(summary->appearance_coverage);
       t.at("observed_vertices").get_to(summary->template_observed_vertices);
+      t.at("unseen_vertices").get_to(summary->template_unseen_vertices);
+      t.at("softened_elements").get_to(summary->softened_elements);
       volume_vertices = summary->volume_vertices;
     }
     const auto npy = positions_path(path);

@@ -428,13 +428,16 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   Impl& m = *impl_;
   const auto template_start = Clock::now();
   m.template_surface = close_template(read_reconstruction(capture, m.root));
-  m.model = std::make_unique<AlignmentTemplate>(m.template_surface, options.pairwise, options.deformer);
+  m.model = std::make_unique<AlignmentTemplate>(m.template_surface, options.pairwise, options.deformer,
+                                                capture_cameras(capture));
   const core::Mesh& template_mesh = m.model->mesh();
   Registration& registration = m.registration;
   registration.seconds_template = std::chrono::duration<double>(Clock::now() - template_start).count();
   registration.deformer_model = m.model->deformer().model();
   registration.volume_vertices = m.model->deformer().vertex_count();
   registration.elements = m.model->deformer().element_count();
+  registration.template_unseen_vertices = m.model->unseen_vertex_count();
+  registration.softened_elements = m.model->deformer().softened_elements();
   registration.template_observed_vertices = m.template_surface.observed_vertices;
   registration.template_dropped_vertices = m.template_surface.dropped_vertices;
   spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
@@ -447,6 +450,9 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   if (m.template_surface.holes > 0)
     spdlog::info("template: {} holes of the root reconstruction closed; {:.1f} % of the template is unobserved",
                  m.template_surface.holes, 100 * m.model->unobserved_fraction());
+  if (registration.softened_elements > 0)
+    spdlog::info("template: {} vertices no camera sees; {} tets under them softened", registration.template_unseen_vertices,
+                 registration.softened_elements);
   spdlog::info("tree partition: a trunk of {} frames and {} units of at most {} frames", m.partition.trunk_size,
                m.partition.units(), m.partition.bound);
   start_records(registration, capture, m.nodes, tree.root, m.template_surface);

@@ -11,8 +11,11 @@
 
 namespace surfcap::align {
 
-VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options) {
+VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options,
+                               const std::vector<char>& unseen) {
   surface_vertices_ = template_mesh.vertex_count();
+  if (!unseen.empty() && static_cast<long>(unseen.size()) != surface_vertices_)
+    throw core::internal_error("VolumeDeformer: one unseen flag per template vertex");
   std::string fallback_reason = "volumetric model disabled";
   const Eigen::SparseMatrix<double> surface_gradient = geometry::gradient_operator(template_mesh.V, template_mesh.F);
   const Eigen::VectorXd areas = core::face_areas(template_mesh.V, template_mesh.F);
@@ -52,12 +55,35 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
     model_ = "surface (" + fallback_reason + ")";
   }
   const long elements = element_weights_.size();
-  Eigen::VectorXd D(3 * elements);
-  for (long e = 0; e < elements; ++e) D.segment<3>(3 * e).setConstant(element_weights_(e));
+  const auto diagonal_of = [&] {
+    Eigen::VectorXd D(3 * elements);
+    for (long e = 0; e < elements; ++e) D.segment<3>(3 * e).setConstant(element_weights_(e));
+    return D;
+  };
+  Eigen::VectorXd D = diagonal_of();
   Eigen::SparseMatrix<double> L = G_.transpose() * D.asDiagonal() * G_;
   double diagonal = 0;
   for (long i = 0; i < surface_vertices_; ++i) diagonal += L.coeff(i, i);
   scale_ = diagonal > 0 ? diagonal / static_cast<double>(surface_vertices_) : 1.0;
+  if (!unseen.empty()) {
+    for (long e = 0; e < tetrahedra_.rows(); ++e) {
+      bool on_surface = false, all_unseen = true;
+      for (int k = 0; k < 4; ++k) {
+        const int v = tetrahedra_(e, k);
+        if (v >= surface_vertices_) continue;
+        on_surface = true;
+        all_unseen = all_unseen && unseen[static_cast<std::size_t>(v)];
+      }
+      if (on_surface && all_unseen) {
+        element_weights_(e) *= kUnseenRigidity;
+        ++softened_elements_;
+      }
+    }
+    if (softened_elements_ > 0) {
+      D = diagonal_of();
+      L = G_.transpose() * D.asDiagonal() * G_;
+    }
+  }
   L_ = L / scale_;
   GtD_ = Eigen::SparseMatrix<double>(G_.transpose() * D.asDiagonal()) / scale_;
   rest_gradients_ = G_ * rest_;

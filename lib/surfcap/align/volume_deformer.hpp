@@ -9,11 +9,19 @@
 // gradient-domain (Poisson) form — δ(R) = GᵀD R∇x₀ are the rotated differential coordinates —
 // which keeps the system as sparse as L itself. The matrix depends only on the constraint
 // weights, so one factorisation serves every rotation iteration of a level.
+//
+// The volume under surface no camera saw is the reconstruction's guess, not the body's: a visual
+// hull fills what no camera looks into (under a skirt, between the legs) with phantom volume, a
+// multi-view stereo closes it with a flat patch. Its tets, whose surface vertices are all unseen,
+// carry kUnseenRigidity of their weight, so the guessed shape does not hold the surface that
+// follows it (a hem flaring out of a cone the hull made of it); the surface triangles keep their
+// full weight, so the unseen surface still moves as a membrane.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "surfcap/core/mesh.hpp"
 #include "surfcap/core/option_table.hpp"
@@ -39,13 +47,22 @@ class VolumeDeformer {
  public:
   /// Tetrahedralises the template (closed surface) and builds G, D and L. If TetGen fails (open or
   /// self-intersecting surface) it falls back to the surface model and says so in model().
-  VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options = {});
+  /// `unseen` (empty, or one flag per template vertex): surface vertices no camera saw; the tets
+  /// whose surface vertices are all unseen keep kUnseenRigidity of their weight.
+  VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options = {},
+                 const std::vector<char>& unseen = {});
+
+  /// The weight factor of a tet under unseen surface: its rigidity is a guess's, yet a positive
+  /// one keeps its interior vertices attached. The constraint weights stay relative to the
+  /// template's full rigidity (L's normalisation is taken before softening).
+  static constexpr double kUnseenRigidity = 0.01;
 
   /// "tetrahedral" or "surface (…reason…)".
   const std::string& model() const { return model_; }
   long vertex_count() const { return rest_.rows(); }           ///< surface + interior
   long surface_vertex_count() const { return surface_vertices_; }
   long element_count() const { return element_weights_.size(); }
+  long softened_elements() const { return softened_elements_; }  ///< tets under unseen surface
   const Eigen::MatrixXd& rest() const { return rest_; }        ///< all vertices at rest (n×3)
   const Eigen::MatrixXi& tetrahedra() const { return tetrahedra_; }
 
@@ -80,6 +97,7 @@ class VolumeDeformer {
   Eigen::VectorXd element_weights_;          ///< D per element
   Eigen::MatrixXd rest_gradients_;           ///< 3E×3: ∇x₀ per element
   double scale_ = 1;
+  long softened_elements_ = 0;
 };
 
 }  // namespace surfcap::align

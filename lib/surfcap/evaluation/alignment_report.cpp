@@ -152,6 +152,8 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"deformer", registration.deformer_model},
                        {"volume_vertices", registration.volume_vertices},
                        {"elements", registration.elements},
+                       {"template_unseen_vertices", registration.template_unseen_vertices},
+                       {"softened_elements", registration.softened_elements},
                        {"template_seconds", registration.seconds_template},
                        {"appearance_coverage", registration.appearance_coverage},
                        {"frames_with_holes", frames_with_holes},

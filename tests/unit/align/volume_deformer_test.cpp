@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "deformable_shape.hpp"
 
 namespace surfcap::align {
@@ -33,6 +36,54 @@ TEST(VolumeDeformer, RigidTargetsOnAFewVerticesMoveTheWholeBodyRigidly) {
   const Eigen::MatrixXd result =
       deformer.deform(solver, deformer.rest(), moved.topRows(deformer.surface_vertex_count()), weights, 40);
   EXPECT_LT((result - moved).rowwise().norm().maxCoeff(), 1e-3);  // rotation converges from rest
+}
+
+/// RMS distance of `rows` of `a` to the same rows of `b`.
+double rms_on(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, const std::vector<long>& rows) {
+  double sum = 0;
+  for (const long v : rows) sum += (a.row(v) - b.row(v)).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(rows.size()));
+}
+
+TEST(VolumeDeformer, TheVolumeUnderUnseenSurfaceFollowsAFlare) {
+  // The ellipsoid's lower third unseen (under a skirt); the targets flare it out like a hem after a
+  // landing (×1.6 away from the vertical axis, growing downwards) and keep the rest in place.
+  const core::Mesh shape = testing::ellipsoid(16, 32);
+  const long n = shape.V.rows();
+  std::vector<char> unseen(static_cast<std::size_t>(n), 0);
+  std::vector<long> lower, upper;
+  Eigen::MatrixXd targets = shape.V;
+  for (long v = 0; v < n; ++v) {
+    const double y = shape.V(v, 1);
+    if (y < -0.3) {
+      unseen[static_cast<std::size_t>(v)] = 1;
+      lower.push_back(v);
+      const double flare = 1 + 0.6 * (-0.3 - y) / 0.6;
+      targets(v, 0) *= flare;
+      targets(v, 2) *= flare;
+    } else {
+      upper.push_back(v);
+    }
+  }
+  const VolumeDeformer rigid(shape), soft(shape, {}, unseen);
+  EXPECT_EQ(rigid.softened_elements(), 0);
+  EXPECT_GT(soft.softened_elements(), 0);
+  EXPECT_LT(soft.softened_elements(), soft.tetrahedra().rows() / 2);
+  const Eigen::VectorXd weights = Eigen::VectorXd::Constant(n, 0.05);
+  const auto solve = [&](const VolumeDeformer& deformer) {
+    return Eigen::MatrixXd(deformer.deform(deformer.factor(weights), deformer.rest(), targets, weights, 20).topRows(n));
+  };
+  const Eigen::MatrixXd held = solve(rigid), followed = solve(soft);
+  const double flare = rms_on(shape.V, targets, lower);
+  // The rigid volume holds a fifth of the flare back (0.22), the soft one a third of that (0.08).
+  EXPECT_GT(rms_on(held, targets, lower), 0.15 * flare);
+  EXPECT_LT(rms_on(followed, targets, lower), 0.1 * flare);
+  EXPECT_LT(rms_on(followed, targets, lower), 0.5 * rms_on(held, targets, lower));
+  EXPECT_LT(rms_on(followed, targets, upper), rms_on(held, targets, upper));  // and pulls less on the rest
+  // No vertex flagged: the same model as none given, bit for bit.
+  const VolumeDeformer all_seen(shape, {}, std::vector<char>(static_cast<std::size_t>(n), 0));
+  EXPECT_EQ(all_seen.softened_elements(), 0);
+  EXPECT_TRUE(solve(all_seen) == held);
 }
 
 TEST(VolumeDeformer, SurfaceModelWhenTetrahedralisationIsOff) {
