@@ -4,9 +4,9 @@
 # against the capture's ground truth, the outputs and reports, determinism across thread counts,
 # the automatic root, and exit codes. The template is a stride of the walk (--root walk:0, as
 # scripts/demo.sh does). The error bounds (RMS 1.8 % of the height, worst frame 3.6 %, p99 5 %)
-# leave room above the figures docs/align.md gives for tiny (0.955 % / 1.730 % / 4.03 %): single
-# hard edges move them by tenths of a percent with small changes of the method (RMS 0.939 % to
-# 1.034 %, the worst frame 1.730 % to 1.937 %, the p99 3.92 % to 4.34 % with 29 to 31 coarsest
+# leave room above the figures docs/align.md gives for tiny (0.928 % / 1.653 % / 3.85 %): single
+# hard edges move them by tenths of a percent with small changes of the method (RMS 0.928 % to
+# 0.957 %, the worst frame 1.653 % to 1.777 %, the p99 3.85 % to 4.01 % with 29 to 31 coarsest
 # patches), and the sanitizer build synthesises another tiny capture.
 set -euo pipefail
 build=$1
@@ -36,7 +36,7 @@ perl -MJSON::PP -e '
   die "p99 vertex error above 5% of the height or below the RMS\n"
     if $g->{p99_vertex_error_percent_height} > 5 || $g->{p99_vertex_error_percent_height} < $g->{rms_percent_height};
   die "root appearance covers too little\n" unless $r->{summary}{appearance_coverage} > 0.5;
-  # The skirt's underside is what no root camera sees (21 of the 1,130 template vertices, the 7
+  # The underside of the skirt is what no root camera sees (21 of the 1,130 template vertices, the 7
   # tets under them softened): some, and a small part.
   my ($unseen, $softened) = ($r->{summary}{template_unseen_vertices}, $r->{summary}{softened_elements});
   die "unseen template vertices $unseen, softened tets $softened implausible\n"
