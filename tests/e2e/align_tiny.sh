@@ -19,9 +19,15 @@ trap 'rm -rf "$work"' EXIT
 "$align" run --capture "$work/capture" --out "$work/db" --root walk:0 --threads 2 --log-level warn
 
 for f in database.json template.ply sequences/walk.npy sequences/walk.root.npy sequences/run.npy \
-         similarity/tree.json report/alignment.json report/alignment.png report/truth_error.png; do
+         similarity/tree.json report/alignment.json report/alignment.png report/truth_error.png \
+         report/observation.png; do
   [ -s "$work/db/$f" ] || { echo "missing $f"; exit 1; }
 done
+# The observation preview (written: some of the template no root camera sees) has two panels per
+# frame and the root's view from below: an odd number of 360-pixel panels.
+perl -e 'open(my $f, "<:raw", $ARGV[0]) or die; read($f, my $h, 24); my $w = unpack("N", substr($h, 16, 4));
+  die "observation.png: $w pixels wide, not an odd number of panels\n" if $w % 360 || ($w / 360) % 2 == 0;' \
+  "$work/db/report/observation.png"
 grep -q '"surfcap.database/1"' "$work/db/database.json"
 
 perl -MJSON::PP -e '

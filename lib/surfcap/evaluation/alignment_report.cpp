@@ -11,6 +11,8 @@
 #include "surfcap/core/error.hpp"
 #include "surfcap/core/mesh_io.hpp"
 #include "surfcap/core/mesh_repair.hpp"
+#include "surfcap/align/alignment_template.hpp"
+#include "surfcap/align/appearance_flow.hpp"
 #include "surfcap/align/observed_surface.hpp"
 #include "surfcap/align/pairwise_checks.hpp"
 #include "surfcap/geometry/mean_edge_length.hpp"
@@ -264,7 +266,9 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
 }
 
 bool has_observation_figures(const align::Registration& registration) {
-  if (registration.template_observed_vertices < registration.database.template_mesh.vertex_count()) return true;
+  if (registration.template_observed_vertices < registration.database.template_mesh.vertex_count() ||
+      registration.template_unseen_vertices > 0)
+    return true;
   return std::any_of(registration.frames.begin(), registration.frames.end(),
                      [](const align::FrameRecord& record) {
                        return record.alignment.holes > 0 || record.alignment.merged_regions > 0;
@@ -279,6 +283,12 @@ void write_observation_preview(const std::filesystem::path& path, const core::Ca
   const Eigen::MatrixXd& rest = registration.database.template_mesh.V;
   const double mean_edge = geometry::mean_edge_length(rest, F);
   const double height = rest.col(1).maxCoeff() - rest.col(1).minCoeff();
+  // What no camera sees at the root, where the volume is soft (alignment_template.hpp): found as
+  // the template found it, on the root's positions (the template's, in the capture's frame).
+  std::vector<char> unseen;
+  for (std::size_t node = 0; node < registration.frames.size(); ++node)
+    if (registration.frames[node].parent < 0 && registration.world_positions[node].rows() > 0)
+      unseen = align::unseen_vertices(registration.world_positions[node], F, align::capture_cameras(capture));
   visit_nodes(capture, registration, nodes,
               [&](const align::FrameRecord& record, const core::Mesh& target, const Eigen::MatrixXd& V) {
                 const geometry::SurfaceQuery query(target.V, target.F);
@@ -292,15 +302,26 @@ void write_observation_preview(const std::filesystem::path& path, const core::Ca
                     values(v) = 0.75;
                   else if (merged.merged[static_cast<std::size_t>(v)])
                     values(v) = 0.4;
+                  else if (!unseen.empty() && unseen[static_cast<std::size_t>(v)])
+                    values(v) = 0.25;
                 char label[200], side_label[100];
                 std::snprintf(label, sizeof label, "%s:%d %ld holes, %.0f %% unobserved", record.sequence.c_str(),
                               record.frame, record.alignment.holes, 100 * record.alignment.unobserved_fraction);
                 std::snprintf(side_label, sizeof side_label, "side; %ld merged regions", record.alignment.merged_regions);
                 add_front_and_side(panels, V, F, values, 1.0, label, side_label);
+                if (record.parent >= 0 || unseen.empty()) return;
+                // The root from below (x, z, −y: a rotation, the viewer under the feet): most of
+                // what no camera sees faces the floor.
+                Eigen::MatrixXd below(V.rows(), 3);
+                below << V.col(0), V.col(2), -V.col(1);
+                char below_label[100];
+                std::snprintf(below_label, sizeof below_label, "from below; %ld seen by no camera",
+                              static_cast<long>(std::count(unseen.begin(), unseen.end(), 1)));
+                panels.push_back(render_panel(below, F, values, 1.0, kPanelSize, below_label));
               });
   write_sheet(path, panels,
-              "observed (blue), fused with another part (green), over a hole's rim in this frame (orange), closing "
-              "surface (red)");
+              "observed (blue), seen by no camera at the root (cyan), fused with another part (green), over a hole's "
+              "rim in this frame (orange), closing surface (red)");
 }
 
 void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,

@@ -25,16 +25,17 @@ std::vector<long> preview_nodes(const align::Registration& registration, int cou
 void write_residual_preview(const std::filesystem::path& path, const core::Capture& capture,
                             const align::Registration& registration, const std::vector<long>& nodes, double scale);
 
-/// Is there anything for the observation preview: a closing surface, a frame with open holes or
-/// with merged regions?
+/// Is there anything for the observation preview: a closing surface, template vertices no root
+/// camera sees, a frame with open holes or with merged regions?
 bool has_observation_figures(const align::Registration& registration);
 
 /// The aligned template of each node, front and side, coloured by observation: blue where the
 /// vertex is the reconstruction's and its closest point on the frame's reconstruction is observed,
 /// orange where that point lies on a hole's rim (align/observed_surface.hpp), red on the closing
 /// surface of the template, green in a region the reconstruction merged with another part
-/// (align/pairwise_checks.hpp); the labels give the frame's holes, unobserved fraction and merged
-/// regions.
+/// (align/pairwise_checks.hpp), cyan where no camera sees the template at the root (and its volume
+/// is soft: align/alignment_template.hpp); the labels give the frame's holes, unobserved fraction
+/// and merged regions. The root is also drawn from below, where most of what no camera sees is.
 void write_observation_preview(const std::filesystem::path& path, const core::Capture& capture,
                                const align::Registration& registration, const std::vector<long>& nodes);
 
