@@ -1,6 +1,7 @@
 #include "surfcap/align/parent_recovery.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -73,19 +74,30 @@ void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const
   }
 }
 
-void try_entry_candidates(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
-                          double uncovered_margin, const AttemptFrom& attempt, const VerdictFrom& verdict,
-                          FrameRecord& record) {
-  for (std::size_t k = 0; k < candidates.size() && static_cast<int>(k) < options.entry_candidates; ++k) {
+std::vector<long> entry_parents(const Eigen::MatrixXd& costs, long child, long parent, long root,
+                                const std::vector<NodeFrame>& nodes, const std::function<bool(long)>& usable,
+                                int count) {
+  std::vector<long> candidates = candidate_parents(costs, child, parent, nodes, usable, true);
+  if (static_cast<long>(candidates.size()) > count) candidates.resize(static_cast<std::size_t>(std::max(count, 0)));
+  const bool listed = std::find(candidates.begin(), candidates.end(), root) != candidates.end();
+  if (count > 0 && root != parent && !listed && usable(root)) candidates.push_back(root);
+  return candidates;
+}
+
+void try_entry_candidates(KeptAttempt& kept, const std::vector<long>& candidates, double uncovered_margin,
+                          const AttemptFrom& attempt, const VerdictFrom& verdict, FrameRecord& record) {
+  for (const long from : candidates) {
     const std::size_t failures = record.failed_attempts.size();
-    std::optional<PairwiseResult> alternative = attempt(candidates[k]);
+    std::optional<PairwiseResult> alternative = attempt(from);
     record.failed_attempts.resize(failures);
     ++record.entry_attempts;
-    if (alternative && verdict(*alternative, candidates[k]) == Verdict::pass &&
-        alternative->mean_residual < kept.result->mean_residual &&
-        alternative->uncovered_fraction <= kept.result->uncovered_fraction + uncovered_margin) {
+    if (!alternative || verdict(*alternative, from) != Verdict::pass) continue;
+    const double less_uncovered = kept.result->uncovered_fraction - alternative->uncovered_fraction;
+    const bool covers_more = less_uncovered > uncovered_margin;
+    const bool covers_as_much = std::abs(less_uncovered) <= uncovered_margin;
+    if (covers_more || (covers_as_much && alternative->mean_residual < kept.result->mean_residual)) {
       kept.result = std::move(alternative);
-      kept.parent = candidates[k];
+      kept.parent = from;
     }
   }
 }

@@ -2,7 +2,8 @@
 // Parent recovery: a child whose alignment from its tree parent failed (pairwise_checks.hpp) is
 // aligned again from the next most similar frames already aligned; an edge entering the child's
 // sequence from another — two sequences' poses can look alike to the shape histograms with a limb
-// far apart — is also aligned from the most similar aligned frame of a few other sequences.
+// far apart — is also aligned from the most similar aligned frame of a few other sequences and
+// from the root.
 
 #include <Eigen/Core>
 
@@ -21,8 +22,8 @@ struct FrameRecord;
 /// Up to `retries` alternative parents for a failed child; of the attempts that did not fail the
 /// lowest mean residual is kept, and if all failed the tree parent's unless another fits no worse
 /// by every check and better by one (a lower failure score alone is no evidence of a better
-/// alignment: it may trade one check for another). Up to `entry_candidates` other sequences tried
-/// for an edge between sequences; the lowest mean residual of the passing attempts is kept.
+/// alignment: it may trade one check for another). Up to `entry_candidates` other sequences, and
+/// the root, tried for an edge between sequences (0: none).
 struct RecoveryOptions {
   int retries = 2;
   int entry_candidates = 2;
@@ -31,7 +32,8 @@ struct RecoveryOptions {
   static void table(Self& self, Table& t) {
     t.field("retries", self.retries, "Alternative parents tried for a failed frame", core::Range::closed(0, 10));
     t.field("entry_candidates", self.entry_candidates,
-            "An edge from another sequence is also aligned from the most similar frame of up to N other sequences",
+            "An edge from another sequence is also aligned from the most similar frame of up to N other sequences "
+            "and from the root",
             core::Range::closed(0, 10));
   }
 };
@@ -65,11 +67,21 @@ std::optional<Verdict> keep_better(KeptAttempt& kept, std::optional<PairwiseResu
 void retry_parents(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
                    const AttemptFrom& attempt, const VerdictFrom& verdict);
 
-/// Entry candidates (the first `options.entry_candidates`): one that passes replaces the kept
-/// attempt when its mean residual is lower and its uncovered fraction at most `uncovered_margin`
-/// above. An alternative that fails is no failure of the frame (`record` keeps only the count).
-void try_entry_candidates(KeptAttempt& kept, const std::vector<long>& candidates, const RecoveryOptions& options,
-                          double uncovered_margin, const AttemptFrom& attempt, const VerdictFrom& verdict,
-                          FrameRecord& record);
+/// The other parents of an edge entering the child's sequence from another: the most similar
+/// usable frame of up to `count` other sequences (candidate_parents), then the root unless it is
+/// the parent, among them or not usable. The root is the one frame aligned without error: a
+/// sequence entered from it does not inherit the error of another sequence's chain.
+std::vector<long> entry_parents(const Eigen::MatrixXd& costs, long child, long parent, long root,
+                                const std::vector<NodeFrame>& nodes, const std::function<bool(long)>& usable,
+                                int count);
+
+/// Aligns from each of `candidates`: one that passes replaces the kept attempt when it leaves
+/// more than `uncovered_margin` less of the reconstruction uncovered — surface the template did
+/// not follow, which the mean residual (over the template) can miss: two entries can fit at the
+/// same residual — or, leaving as much uncovered (within the margin either way), when its mean
+/// residual is lower. An alternative that fails is no failure of the
+/// frame (`record` keeps only the count).
+void try_entry_candidates(KeptAttempt& kept, const std::vector<long>& candidates, double uncovered_margin,
+                          const AttemptFrom& attempt, const VerdictFrom& verdict, FrameRecord& record);
 
 }  // namespace surfcap::align

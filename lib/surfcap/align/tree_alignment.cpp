@@ -144,9 +144,10 @@ class EdgeAlignment {
                     state_.options.recovery, attempt_from, verdict_from);
     if (kept.result && record_.failed_attempts.empty() && state_.options.recovery.entry_candidates > 0 &&
         costs != nullptr && state_.nodes[static_cast<std::size_t>(edge_.parent)].sequence != child_.sequence)
-      try_entry_candidates(kept, candidate_parents(*costs, edge_.child, edge_.parent, state_.nodes, usable, true),
-                           state_.options.recovery, state_.options.failure.max_uncovered / 4, attempt_from,
-                           verdict_from, record_);
+      try_entry_candidates(kept,
+                           entry_parents(*costs, edge_.child, edge_.parent, state_.tree.root, state_.nodes, usable,
+                                         state_.options.recovery.entry_candidates),
+                           state_.options.failure.max_uncovered / 4, attempt_from, verdict_from, record_);
     if (!kept.result)
       throw core::bad_input(state_.capture.mesh_path(child_.sequence, child_.frame),
                             "alignment failed from every candidate parent: " + record_.failed_attempts.front().failure,
@@ -230,8 +231,8 @@ class EdgeAlignment {
   /// Stores the kept attempt as the child's alignment and reports progress.
   void keep(KeptAttempt kept) {
     if (kept.parent != edge_.parent && record_.failed_attempts.empty())
-      spdlog::info("{}:{}: aligned from node {} (a lower residual than from its tree parent)", record_.sequence,
-                   record_.frame, kept.parent);
+      spdlog::info("{}:{}: aligned from node {} (a better entry into its sequence than from its tree parent)",
+                   record_.sequence, record_.frame, kept.parent);
     else if (kept.parent != edge_.parent)
       spdlog::warn("{}:{}: alignment from its tree parent failed; aligned from node {} instead", record_.sequence,
                    record_.frame, kept.parent);

@@ -41,6 +41,49 @@ TEST(ParentRecovery, CandidatesAreTheCheapestUsableFramesOrOneOfEachOtherSequenc
   EXPECT_EQ(candidate_parents(costs, 2, 1, nodes, usable, true), (std::vector<long>{4, 5}));
 }
 
+TEST(ParentRecovery, EntryParentsAreOneFrameOfEachOtherSequenceThenTheRoot) {
+  const std::vector<NodeFrame> nodes = {{0, 0}, {0, 1}, {0, 2}, {1, 0}, {1, 1}, {2, 0}};
+  Eigen::MatrixXd costs = Eigen::MatrixXd::Zero(6, 6);
+  costs.row(2) << 0.3, 0.1, 0.0, 0.2, 0.05, 0.4;
+  const auto usable = [](long node) { return node != 2; };
+  // Child 2, parent 1, root 0 (the parent's sequence: never a per-sequence candidate).
+  EXPECT_EQ(entry_parents(costs, 2, 1, 0, nodes, usable, 2), (std::vector<long>{4, 5, 0}));
+  EXPECT_EQ(entry_parents(costs, 2, 1, 0, nodes, usable, 1), (std::vector<long>{4, 0}));
+  EXPECT_EQ(entry_parents(costs, 2, 1, 0, nodes, usable, 0), (std::vector<long>{}));  // entries off
+  EXPECT_EQ(entry_parents(costs, 2, 0, 0, nodes, usable, 2), (std::vector<long>{4, 5}));  // the root is the parent
+  EXPECT_EQ(entry_parents(costs, 2, 1, 4, nodes, usable, 2), (std::vector<long>{4, 5}));  // already a candidate
+  const auto not_root = [](long node) { return node != 2 && node != 0; };
+  EXPECT_EQ(entry_parents(costs, 2, 1, 0, nodes, not_root, 2), (std::vector<long>{4, 5}));
+}
+
+TEST(ParentRecovery, AnEntryCoveringClearlyMoreOrAsMuchAtALowerResidualReplacesTheKeptOne) {
+  const FailureOptions failure;
+  const double margin = failure.max_uncovered / 4;  // 0.25 % of the reconstruction, as the tree uses
+  KeptAttempt kept{result_with(0.002, 0.006), 1, Verdict::pass};
+  FrameRecord record;
+  const auto attempt = [&](long from) -> std::optional<PairwiseResult> {
+    if (from == 3) return result_with(0.0015, 0.006);   // as much uncovered, a lower residual: kept
+    if (from == 4) return result_with(0.0018, 0.003);   // 0.3 % less uncovered: kept at a higher residual
+    if (from == 5) return result_with(0.0010, 0.0056);  // 0.26 % more uncovered than 4: not kept
+    if (from == 6) return std::nullopt;                 // threw
+    if (from == 7) {                                    // failed (residual above 4 mm), recorded as the caller does
+      record.failed_attempts.push_back({from, 0.005, 0.0, 0.0, "mean residual above the limit"});
+      return result_with(0.005, 0.0);
+    }
+    return result_with(0.0017, 0.004);  // from 0: within the margin of 4, a lower residual: kept
+  };
+  const auto judge = [&](const PairwiseResult& r, long) { return verdict(r, 0.0, failure); };
+  try_entry_candidates(kept, {3, 4, 5, 6, 7, 0}, margin, attempt, judge, record);
+  EXPECT_EQ(kept.parent, 0);
+  EXPECT_DOUBLE_EQ(kept.result->mean_residual, 0.0017);
+  EXPECT_EQ(record.entry_attempts, 6);
+  EXPECT_TRUE(record.failed_attempts.empty());
+  // Without the margin rule, 5 (the lowest residual) would have been kept.
+  KeptAttempt by_residual{result_with(0.002, 0.006), 1, Verdict::pass};
+  try_entry_candidates(by_residual, {4, 5}, 1.0, attempt, judge, record);
+  EXPECT_EQ(by_residual.parent, 5);
+}
+
 TEST(ParentRecovery, RetriesKeepTheLowestResidualThatDidNotFailAndStopAtAPass) {
   const FailureOptions failure;
   RecoveryOptions options;
