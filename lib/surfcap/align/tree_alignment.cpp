@@ -147,7 +147,7 @@ class EdgeAlignment {
       try_entry_candidates(kept,
                            entry_parents(*costs, edge_.child, edge_.parent, state_.tree.root, state_.nodes, usable,
                                          state_.options.recovery.entry_candidates),
-                           state_.options.failure.max_uncovered / 4, attempt_from, verdict_from, record_);
+                           state_.options.failure.max_uncovered / 10, attempt_from, verdict_from, record_);
     if (!kept.result)
       throw core::bad_input(state_.capture.mesh_path(child_.sequence, child_.frame),
                             "alignment failed from every candidate parent: " + record_.failed_attempts.front().failure,
