@@ -29,8 +29,8 @@ if missing; then
   fi
   echo "installing slurm-wlm and munge"
   export DEBIAN_FRONTEND=noninteractive
-  apt-get install -y -qq --no-install-recommends slurm-wlm munge > /dev/null 2>&1 \
-    || { apt-get update -qq && apt-get install -y -qq --no-install-recommends slurm-wlm munge > /dev/null; } \
+  apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends slurm-wlm munge > /dev/null 2>&1 \
+    || { apt-get -o DPkg::Lock::Timeout=600 update -qq && apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends slurm-wlm munge > /dev/null; } \
     || { echo "SKIP: apt-get could not install slurm-wlm and munge"; exit 77; }
 fi
 [[ $(id -u) -eq 0 ]] || { echo "SKIP: the single-node SLURM of this test runs its daemons as root"; exit 77; }

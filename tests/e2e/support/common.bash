@@ -16,7 +16,9 @@ final_files() {
 }
 
 # install_packages PACKAGE...: installs the Debian packages that are missing (apt-get as root,
-# else sudo -n); fails when that is not possible (the caller then skips with exit 77).
+# else sudo -n); fails when that is not possible (the caller then skips with exit 77). Tests run
+# in parallel, so apt-get waits up to 10 minutes for another test's install to release dpkg's lock
+# instead of failing at once.
 install_packages() {
   local package missing=()
   for package in "$@"; do
@@ -26,9 +28,9 @@ install_packages() {
   local sudo_cmd=()
   [[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo -n)
   echo "installing ${missing[*]} (apt-get)"
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" \
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}" \
     > /dev/null 2>&1 ||
-    { DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get update -qq > /dev/null 2>&1 &&
-      DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" \
+    { DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=600 update -qq > /dev/null 2>&1 &&
+      DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}" \
         > /dev/null 2>&1; }
 }
