@@ -439,6 +439,7 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   registration.elements = m.model->deformer().element_count();
   registration.template_unseen_vertices = m.model->unseen_vertex_count();
   registration.softened_elements = m.model->deformer().softened_elements();
+  registration.cut_elements = m.model->deformer().cut_elements();
   registration.template_observed_vertices = m.template_surface.observed_vertices;
   registration.template_dropped_vertices = m.template_surface.dropped_vertices;
   spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
@@ -454,6 +455,9 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   if (registration.softened_elements > 0)
     spdlog::info("template: {} vertices no camera sees; {} tets under them softened", registration.template_unseen_vertices,
                  registration.softened_elements);
+  if (registration.cut_elements > 0)
+    spdlog::info("template: {} tets join parts that touch but lie far apart along the surface; cut",
+                 registration.cut_elements);
   spdlog::info("tree partition: a trunk of {} frames and {} units of at most {} frames", m.partition.trunk_size,
                m.partition.units(), m.partition.bound);
   start_records(registration, capture, m.nodes, tree.root, m.template_surface);

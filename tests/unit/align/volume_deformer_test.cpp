@@ -86,6 +86,32 @@ TEST(VolumeDeformer, TheVolumeUnderUnseenSurfaceFollowsAFlare) {
   EXPECT_TRUE(solve(all_seen) == held);
 }
 
+TEST(VolumeDeformer, PartsTouchingAtRestAreNotGluedTogetherByTheVolume) {
+  // Two ellipsoids side by side, pressed 2 cm into each other: parts of one template that touch at
+  // rest but are far apart along its surface (a hand on the hip, thighs pressed together).
+  const core::Mesh part = testing::ellipsoid(12, 24);
+  const long n = part.V.rows();
+  const double gap = 2 * testing::ellipsoid_axes().x() - 0.02;
+  core::Mesh pair;
+  pair.V.resize(2 * n, 3);
+  pair.V << part.V, part.V.rowwise() + Eigen::RowVector3d(gap, 0, 0);
+  pair.F.resize(2 * part.F.rows(), 3);
+  pair.F << part.F, part.F.array() + static_cast<int>(n);
+  const VolumeDeformer deformer(pair);
+  EXPECT_EQ(VolumeDeformer(part).cut_elements(), 0);
+  EXPECT_GT(deformer.cut_elements(), 0);
+  EXPECT_LT(deformer.cut_elements(), deformer.tetrahedra().rows() / 5);
+  // The second part pulled 0.3 m away, the first held where it is, by weak targets on every vertex.
+  Eigen::MatrixXd targets = pair.V;
+  targets.bottomRows(n).col(0).array() += 0.3;
+  const Eigen::VectorXd weights = Eigen::VectorXd::Constant(2 * n, 0.05);
+  const Eigen::MatrixXd result =
+      deformer.deform(deformer.factor(weights), deformer.rest(), targets, weights, 20).topRows(2 * n);
+  // Each part is translated onto its targets (to the solver's precision); a volume joining them
+  // drags the first along and holds the second back (18 cm measured with the joining tets kept).
+  EXPECT_LT((result - targets).rowwise().norm().maxCoeff(), 0.001);
+}
+
 TEST(VolumeDeformer, SurfaceModelWhenTetrahedralisationIsOff) {
   const core::Mesh shape = testing::ellipsoid(10, 20);
   DeformerOptions options;
