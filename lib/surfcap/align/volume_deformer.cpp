@@ -25,10 +25,15 @@ namespace {
 /// along the surface. Each tet vertex is labelled with its surface vertex (a surface vertex
 /// itself; an interior point, the nearest surface vertex within `kLabelEdges` mean edges, else
 /// none); a tet glues when two of its labels lie within `kNearEdges` edges of each other in space
-/// but farther apart along the surface's edges than `kDetour` times that and than `kFarEdges` edges.
+/// but farther apart along the surface's edges than `kDetour` times that and than `kFarHeight` of
+/// the template's height. The path from a limb to the body part it rests on runs through a joint
+/// (a hand on the hip: up the arm and down the torso), a sizeable part of the body; shorter
+/// detours are a garment's fold or a blob fused to the surface, which move with what they touch.
 std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices, const Eigen::MatrixXi& F,
                               const Eigen::MatrixXi& T, double edge) {
-  constexpr double kLabelEdges = 3.0, kNearEdges = 4.0, kDetour = 4.0, kFarEdges = 10.0;
+  constexpr double kLabelEdges = 3.0, kNearEdges = 4.0, kDetour = 4.0, kFarHeight = 1.0 / 3.0;
+  const auto up = rest.topRows(surface_vertices).col(1);
+  const double height = up.maxCoeff() - up.minCoeff();
   const long n = rest.rows();
   std::vector<long> label(static_cast<std::size_t>(n), -1);
   for (long v = 0; v < surface_vertices; ++v) label[static_cast<std::size_t>(v)] = v;
@@ -59,7 +64,7 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
         partners[static_cast<std::size_t>(a)].push_back(b);
       }
   const auto adjacency = geometry::vertex_adjacency(F, surface_vertices);
-  const double radius = std::max(kDetour * near, kFarEdges * edge);
+  const double far_along = kFarHeight * height, radius = std::max(kDetour * near, far_along);
   std::vector<double> distance(static_cast<std::size_t>(surface_vertices), std::numeric_limits<double>::infinity());
   std::vector<long> touched;
   std::vector<std::vector<long>> far(static_cast<std::size_t>(surface_vertices));
@@ -69,15 +74,18 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
     if (list.empty()) continue;
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
-    // Dijkstra along the edges from a, up to `radius`.
+    // Dijkstra along the edges from a, up to `radius` or until every partner is settled (most
+    // are a few edges away).
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
     distance[static_cast<std::size_t>(a)] = 0;
     touched.push_back(a);
     queue.emplace(0.0, a);
-    while (!queue.empty()) {
+    std::size_t settled = 0;
+    while (!queue.empty() && settled < list.size()) {
       const auto [d, v] = queue.top();
       queue.pop();
       if (d > distance[static_cast<std::size_t>(v)] || d > radius) continue;
+      if (std::binary_search(list.begin(), list.end(), v)) ++settled;
       for (const int u : adjacency[static_cast<std::size_t>(v)]) {
         const double next = d + (rest.row(v) - rest.row(u)).norm();
         if (next < distance[static_cast<std::size_t>(u)] && next <= radius) {
@@ -89,7 +97,7 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
     }
     for (const long b : list) {
       const double apart = (rest.row(a) - rest.row(b)).norm();
-      if (distance[static_cast<std::size_t>(b)] > std::max(kDetour * apart, kFarEdges * edge))
+      if (distance[static_cast<std::size_t>(b)] > std::max(kDetour * apart, far_along))
         far[static_cast<std::size_t>(a)].push_back(b);
     }
     for (const long v : touched) distance[static_cast<std::size_t>(v)] = std::numeric_limits<double>::infinity();

@@ -112,6 +112,57 @@ TEST(VolumeDeformer, PartsTouchingAtRestAreNotGluedTogetherByTheVolume) {
   EXPECT_LT((result - targets).rowwise().norm().maxCoeff(), 0.001);
 }
 
+/// A rod of radius `radius` folded into a hairpin in the x-y plane: up from the origin along
+/// `arm`, round a half turn of radius `fold`, then back down, closing on the first arm until the
+/// two press `press` into each other at the ends. One surface: the ends touch in space but lie a
+/// whole hairpin apart along it.
+core::Mesh hairpin(double arm, double fold, double radius, double press) {
+  core::Mesh mesh = testing::unit_sphere(64, 16);
+  const double turn = M_PI * fold, length = 2 * arm + turn;
+  const double closing = (2 * fold - (2 * radius - press)) / arm;  // x per metre down the second arm
+  for (long v = 0; v < mesh.V.rows(); ++v) {
+    const Eigen::Vector3d u = mesh.V.row(v).transpose();
+    const double s = (u.y() + 1) / 2 * length;
+    // Round ends, a constant section between them.
+    const double section = radius * std::pow(std::max(0.0, 1 - std::pow(std::abs(u.y()), 6)), 1.0 / 6);
+    const double across = std::hypot(u.x(), u.z());
+    const Eigen::Vector2d offset =
+        across > 0 ? Eigen::Vector2d(Eigen::Vector2d(u.x(), u.z()) / across * section) : Eigen::Vector2d::Zero();
+    Eigen::Vector2d centre, tangent;
+    if (s <= arm) {
+      centre << 0, s;
+      tangent << 0, 1;
+    } else if (s <= arm + turn) {
+      const double phi = (s - arm) / fold;
+      centre << fold - fold * std::cos(phi), arm + fold * std::sin(phi);
+      tangent << std::sin(phi), std::cos(phi);
+    } else {
+      const double down = s - arm - turn;
+      centre << 2 * fold - closing * down, arm - down;
+      tangent = Eigen::Vector2d(-closing, -1).normalized();
+    }
+    const Eigen::Vector2d normal(tangent.y(), -tangent.x());
+    const Eigen::Vector2d p = centre + offset.x() * normal;
+    mesh.V.row(v) << p.x(), p.y(), offset.y();
+  }
+  return mesh;
+}
+
+TEST(VolumeDeformer, OnlyDetoursOfABodysSizeAreCut) {
+  // A hairpin of a body's height whose ends press together: a limb resting on the body, cut.
+  EXPECT_GT(VolumeDeformer(hairpin(0.8, 0.08, 0.05, 0.04)).cut_elements(), 0);
+  // The same hairpin a fifth of the size beside a body of 1.8 m: its ends are as close along the
+  // surface as a fold of a garment or a blob fused to it, so the volume keeps it whole.
+  const core::Mesh small = hairpin(0.16, 0.016, 0.01, 0.008), body = testing::ellipsoid(16, 24);
+  core::Mesh beside;
+  beside.V.resize(small.V.rows() + body.V.rows(), 3);
+  beside.V << small.V, body.V.rowwise() + Eigen::RowVector3d(0.6, 0, 0);
+  beside.F.resize(small.F.rows() + body.F.rows(), 3);
+  beside.F << small.F, body.F.array() + static_cast<int>(small.V.rows());
+  EXPECT_EQ(VolumeDeformer(body).cut_elements(), 0);
+  EXPECT_EQ(VolumeDeformer(beside).cut_elements(), 0);
+}
+
 TEST(VolumeDeformer, SurfaceModelWhenTetrahedralisationIsOff) {
   const core::Mesh shape = testing::ellipsoid(10, 20);
   DeformerOptions options;
