@@ -190,7 +190,8 @@ void write_registration_part(const std::filesystem::path& path, const PartLabel&
                             {"appearance_coverage", summary.appearance_coverage},
                             {"observed_vertices", summary.template_observed_vertices},
                             {"unseen_vertices", summary.template_unseen_vertices},
-                            {"softened_elements", summary.softened_elements}};
+                            {"softened_elements", summary.softened_elements},
+                            {"cut_elements", summary.cut_elements}};
   core::write_json_file(path, document);
 }
 
@@ -224,6 +225,7 @@ RegistrationPart read_registration_part(const std::filesystem::path& path, const
       t.at("observed_vertices").get_to(summary->template_observed_vertices);
       t.at("unseen_vertices").get_to(summary->template_unseen_vertices);
       t.at("softened_elements").get_to(summary->softened_elements);
+      summary->cut_elements = t.value("cut_elements", 0L);  // parts of builds that cut nothing lack it
       volume_vertices = summary->volume_vertices;
     }
     const auto npy = positions_path(path);

@@ -25,6 +25,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// An entry parent replaces the kept one when it leaves more of the reconstruction covered by over
+/// the uncovered limit divided by this (or, within that margin, a lower mean residual): a tenth
+/// of the limit is above the noise of the uncovered measure and below what a wrong entry leaves.
+constexpr double kEntryMarginDivisor = 10;
+
 /// A frame's reconstruction: small holes filled, large ones (a floor cut, an unseen region) left
 /// open; the correspondence sources use only its observed part (observed_surface.hpp).
 core::Mesh read_reconstruction(const core::Capture& capture, const NodeFrame& node) {
@@ -147,7 +152,8 @@ class EdgeAlignment {
       try_entry_candidates(kept,
                            entry_parents(*costs, edge_.child, edge_.parent, state_.tree.root, state_.nodes, usable,
                                          state_.options.recovery.entry_candidates),
-                           state_.options.failure.max_uncovered / 10, attempt_from, verdict_from, record_);
+                           state_.options.failure.max_uncovered / kEntryMarginDivisor, attempt_from, verdict_from,
+                           record_);
     if (!kept.result)
       throw core::bad_input(state_.capture.mesh_path(child_.sequence, child_.frame),
                             "alignment failed from every candidate parent: " + record_.failed_attempts.front().failure,
@@ -439,6 +445,7 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   registration.elements = m.model->deformer().element_count();
   registration.template_unseen_vertices = m.model->unseen_vertex_count();
   registration.softened_elements = m.model->deformer().softened_elements();
+  registration.cut_elements = m.model->deformer().cut_elements();
   registration.template_observed_vertices = m.template_surface.observed_vertices;
   registration.template_dropped_vertices = m.template_surface.dropped_vertices;
   spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",
@@ -454,6 +461,9 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   if (registration.softened_elements > 0)
     spdlog::info("template: {} vertices no camera sees; {} tets under them softened", registration.template_unseen_vertices,
                  registration.softened_elements);
+  if (registration.cut_elements > 0)
+    spdlog::info("template: {} tets join parts that touch but lie far apart along the surface; cut",
+                 registration.cut_elements);
   spdlog::info("tree partition: a trunk of {} frames and {} units of at most {} frames", m.partition.trunk_size,
                m.partition.units(), m.partition.bound);
   start_records(registration, capture, m.nodes, tree.root, m.template_surface);

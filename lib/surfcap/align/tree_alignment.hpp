@@ -95,8 +95,9 @@ struct Registration {
   std::vector<Eigen::MatrixXd> world_positions;    ///< per node: template surface vertices (world, metres)
   std::string deformer_model;
   long volume_vertices = 0, elements = 0;
-  /// Template vertices no root camera sees, and the tets under them softened (VolumeDeformer).
-  long template_unseen_vertices = 0, softened_elements = 0;
+  /// Template vertices no root camera sees, and the tets under them softened (VolumeDeformer);
+  /// the tets cut because they join parts of the template far apart along its surface.
+  long template_unseen_vertices = 0, softened_elements = 0, cut_elements = 0;
   double seconds_template = 0;
   double appearance_coverage = 0;  ///< template faces seen by a root camera (0: no appearance flow)
   /// The first this many template vertices are the root reconstruction's, the rest close its holes

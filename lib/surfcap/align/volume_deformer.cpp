@@ -8,8 +8,118 @@
 #include "surfcap/core/error.hpp"
 #include "surfcap/geometry/best_rotation.hpp"
 #include "surfcap/geometry/gradient_operator.hpp"
+#include "surfcap/geometry/mesh_topology.hpp"
+#include "surfcap/geometry/vertex_grid.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <queue>
 
 namespace surfcap::align {
+
+namespace {
+
+/// The tets that join two parts of the surface touching at rest — a hand on the hip, thighs
+/// pressed together, an arm a visual hull fused to the torso: parts close in space but far apart
+/// along the surface. Each tet vertex is labelled with its surface vertex (a surface vertex
+/// itself; an interior point, the nearest surface vertex within `kLabelEdges` mean edges, else
+/// none); a tet glues when two of its labels lie within `kNearEdges` edges of each other in space
+/// but farther apart along the surface's edges than `kDetour` times that and than `kFarHeight` of
+/// the template's height. The path from a limb to the body part it rests on runs through a joint
+/// (a hand on the hip: up the arm and down the torso), a sizeable part of the body; shorter
+/// detours are a garment's fold or a blob fused to the surface, which move with what they touch.
+std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices, const Eigen::MatrixXi& F,
+                              const Eigen::MatrixXi& T, double edge) {
+  constexpr double kLabelEdges = 3.0, kNearEdges = 4.0, kDetour = 4.0, kFarHeight = 1.0 / 3.0;
+  const auto up = rest.topRows(surface_vertices).col(1);
+  const double height = up.maxCoeff() - up.minCoeff();
+  const long n = rest.rows();
+  std::vector<long> label(static_cast<std::size_t>(n), -1);
+  for (long v = 0; v < surface_vertices; ++v) label[static_cast<std::size_t>(v)] = v;
+  if (n > surface_vertices) {
+    const Eigen::MatrixXd surface = rest.topRows(surface_vertices);
+    const geometry::VertexGrid grid(surface, kLabelEdges * edge);
+    for (long v = surface_vertices; v < n; ++v) {
+      double best = kLabelEdges * edge;
+      grid.around(rest.row(v).transpose(), [&](long s) {
+        const double d = (surface.row(s) - rest.row(v)).norm();
+        if (d < best || (d == best && s < label[static_cast<std::size_t>(v)])) {
+          best = d;
+          label[static_cast<std::size_t>(v)] = s;
+        }
+      });
+    }
+  }
+  // Pairs of labels to test, grouped by their lower label.
+  std::vector<std::vector<long>> partners(static_cast<std::size_t>(surface_vertices));
+  const double near = kNearEdges * edge;
+  for (long t = 0; t < T.rows(); ++t)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        long a = label[static_cast<std::size_t>(T(t, i))], b = label[static_cast<std::size_t>(T(t, j))];
+        if (a < 0 || b < 0 || a == b) continue;
+        if (a > b) std::swap(a, b);
+        if ((rest.row(a) - rest.row(b)).norm() > near) continue;
+        partners[static_cast<std::size_t>(a)].push_back(b);
+      }
+  const auto adjacency = geometry::vertex_adjacency(F, surface_vertices);
+  const double far_along = kFarHeight * height, radius = std::max(kDetour * near, far_along);
+  std::vector<double> distance(static_cast<std::size_t>(surface_vertices), std::numeric_limits<double>::infinity());
+  std::vector<long> touched;
+  std::vector<std::vector<long>> far(static_cast<std::size_t>(surface_vertices));
+  using Entry = std::pair<double, long>;
+  for (long a = 0; a < surface_vertices; ++a) {
+    auto& list = partners[static_cast<std::size_t>(a)];
+    if (list.empty()) continue;
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    // Dijkstra along the edges from a, up to `radius` or until every partner is settled (most
+    // are a few edges away).
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    distance[static_cast<std::size_t>(a)] = 0;
+    touched.push_back(a);
+    queue.emplace(0.0, a);
+    std::size_t settled = 0;
+    while (!queue.empty() && settled < list.size()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > distance[static_cast<std::size_t>(v)] || d > radius) continue;
+      if (std::binary_search(list.begin(), list.end(), v)) ++settled;
+      for (const int u : adjacency[static_cast<std::size_t>(v)]) {
+        const double next = d + (rest.row(v) - rest.row(u)).norm();
+        if (next < distance[static_cast<std::size_t>(u)] && next <= radius) {
+          if (!std::isfinite(distance[static_cast<std::size_t>(u)])) touched.push_back(u);
+          distance[static_cast<std::size_t>(u)] = next;
+          queue.emplace(next, u);
+        }
+      }
+    }
+    for (const long b : list) {
+      const double apart = (rest.row(a) - rest.row(b)).norm();
+      if (distance[static_cast<std::size_t>(b)] > std::max(kDetour * apart, far_along))
+        far[static_cast<std::size_t>(a)].push_back(b);
+    }
+    for (const long v : touched) distance[static_cast<std::size_t>(v)] = std::numeric_limits<double>::infinity();
+    touched.clear();
+  }
+  std::vector<char> gluing(static_cast<std::size_t>(T.rows()), 0);
+  for (long t = 0; t < T.rows(); ++t)
+    for (int i = 0; i < 4 && !gluing[static_cast<std::size_t>(t)]; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        long a = label[static_cast<std::size_t>(T(t, i))], b = label[static_cast<std::size_t>(T(t, j))];
+        if (a < 0 || b < 0 || a == b) continue;
+        if (a > b) std::swap(a, b);
+        const auto& list = far[static_cast<std::size_t>(a)];
+        if (std::binary_search(list.begin(), list.end(), b)) {
+          gluing[static_cast<std::size_t>(t)] = 1;
+          break;
+        }
+      }
+  return gluing;
+}
+
+}  // namespace
 
 VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options,
                                const std::vector<char>& unseen) {
@@ -65,8 +175,20 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
   double diagonal = 0;
   for (long i = 0; i < surface_vertices_; ++i) diagonal += L.coeff(i, i);
   scale_ = diagonal > 0 ? diagonal / static_cast<double>(surface_vertices_) : 1.0;
-  if (!unseen.empty()) {
-    for (long e = 0; e < tetrahedra_.rows(); ++e) {
+  if (tetrahedra_.rows() > 0) {
+    double edge = 0;
+    for (long f = 0; f < template_mesh.F.rows(); ++f)
+      edge += (template_mesh.V.row(template_mesh.F(f, 0)) - template_mesh.V.row(template_mesh.F(f, 1))).norm();
+    edge /= std::max<double>(1.0, static_cast<double>(template_mesh.F.rows()));
+    const std::vector<char> gluing = gluing_tets(rest_, surface_vertices_, template_mesh.F, tetrahedra_, edge);
+    for (long e = 0; e < tetrahedra_.rows(); ++e)
+      if (gluing[static_cast<std::size_t>(e)]) {
+        element_weights_(e) = 0;
+        ++cut_elements_;
+      }
+  }
+  if (!unseen.empty() || cut_elements_ > 0) {
+    for (long e = 0; e < tetrahedra_.rows() && !unseen.empty(); ++e) {
       bool on_surface = false, all_unseen = true;
       for (int k = 0; k < 4; ++k) {
         const int v = tetrahedra_(e, k);
@@ -79,7 +201,7 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
         ++softened_elements_;
       }
     }
-    if (softened_elements_ > 0) {
+    if (softened_elements_ > 0 || cut_elements_ > 0) {
       D = diagonal_of();
       L = G_.transpose() * D.asDiagonal() * G_;
     }

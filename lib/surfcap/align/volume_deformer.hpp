@@ -16,6 +16,11 @@
 // carry kUnseenRigidity of their weight, so the guessed shape does not hold the surface that
 // follows it (a hem flaring out of a cone the hull made of it); the surface triangles keep their
 // full weight, so the unseen surface still moves as a membrane.
+//
+// Parts of the template that touch at rest — a hand on the hip, thighs pressed together, an arm a
+// visual hull fused to the torso — are close in space but far apart along the surface; the tets
+// between them would glue them together in every frame. Those tets are cut (weight 0): each
+// part keeps its own volume and its surface triangles, and they move apart when the data does.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -48,7 +53,8 @@ class VolumeDeformer {
   /// Tetrahedralises the template (closed surface) and builds G, D and L. If TetGen fails (open or
   /// self-intersecting surface) it falls back to the surface model and says so in model().
   /// `unseen` (empty, or one flag per template vertex): surface vertices no camera saw; the tets
-  /// whose surface vertices are all unseen keep kUnseenRigidity of their weight.
+  /// whose surface vertices are all unseen keep kUnseenRigidity of their weight. Tets joining
+  /// parts far apart along the surface are cut (cut_elements()).
   VolumeDeformer(const core::Mesh& template_mesh, const DeformerOptions& options = {},
                  const std::vector<char>& unseen = {});
 
@@ -63,6 +69,7 @@ class VolumeDeformer {
   long surface_vertex_count() const { return surface_vertices_; }
   long element_count() const { return element_weights_.size(); }
   long softened_elements() const { return softened_elements_; }  ///< tets under unseen surface
+  long cut_elements() const { return cut_elements_; }  ///< tets joining parts far apart along the surface
   const Eigen::MatrixXd& rest() const { return rest_; }        ///< all vertices at rest (n×3)
   const Eigen::MatrixXi& tetrahedra() const { return tetrahedra_; }
 
@@ -98,6 +105,7 @@ class VolumeDeformer {
   Eigen::MatrixXd rest_gradients_;           ///< 3E×3: ∇x₀ per element
   double scale_ = 1;
   long softened_elements_ = 0;
+  long cut_elements_ = 0;
 };
 
 }  // namespace surfcap::align

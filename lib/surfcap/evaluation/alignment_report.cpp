@@ -156,6 +156,7 @@ core::Json alignment_figures(const align::Registration& registration) {
                        {"elements", registration.elements},
                        {"template_unseen_vertices", registration.template_unseen_vertices},
                        {"softened_elements", registration.softened_elements},
+                       {"cut_elements", registration.cut_elements},
                        {"template_seconds", registration.seconds_template},
                        {"appearance_coverage", registration.appearance_coverage},
                        {"frames_with_holes", frames_with_holes},

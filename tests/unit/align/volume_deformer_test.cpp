@@ -86,6 +86,83 @@ TEST(VolumeDeformer, TheVolumeUnderUnseenSurfaceFollowsAFlare) {
   EXPECT_TRUE(solve(all_seen) == held);
 }
 
+TEST(VolumeDeformer, PartsTouchingAtRestAreNotGluedTogetherByTheVolume) {
+  // Two ellipsoids side by side, pressed 2 cm into each other: parts of one template that touch at
+  // rest but are far apart along its surface (a hand on the hip, thighs pressed together).
+  const core::Mesh part = testing::ellipsoid(12, 24);
+  const long n = part.V.rows();
+  const double gap = 2 * testing::ellipsoid_axes().x() - 0.02;
+  core::Mesh pair;
+  pair.V.resize(2 * n, 3);
+  pair.V << part.V, part.V.rowwise() + Eigen::RowVector3d(gap, 0, 0);
+  pair.F.resize(2 * part.F.rows(), 3);
+  pair.F << part.F, part.F.array() + static_cast<int>(n);
+  const VolumeDeformer deformer(pair);
+  EXPECT_EQ(VolumeDeformer(part).cut_elements(), 0);
+  EXPECT_GT(deformer.cut_elements(), 0);
+  EXPECT_LT(deformer.cut_elements(), deformer.tetrahedra().rows() / 5);
+  // The second part pulled 0.3 m away, the first held where it is, by weak targets on every vertex.
+  Eigen::MatrixXd targets = pair.V;
+  targets.bottomRows(n).col(0).array() += 0.3;
+  const Eigen::VectorXd weights = Eigen::VectorXd::Constant(2 * n, 0.05);
+  const Eigen::MatrixXd result =
+      deformer.deform(deformer.factor(weights), deformer.rest(), targets, weights, 20).topRows(2 * n);
+  // Each part is translated onto its targets (to the solver's precision); a volume joining them
+  // drags the first along and holds the second back (18 cm measured with the joining tets kept).
+  EXPECT_LT((result - targets).rowwise().norm().maxCoeff(), 0.001);
+}
+
+/// A rod of radius `radius` folded into a hairpin in the x-y plane: up from the origin along
+/// `arm`, round a half turn of radius `fold`, then back down, closing on the first arm until the
+/// two press `press` into each other at the ends. One surface: the ends touch in space but lie a
+/// whole hairpin apart along it.
+core::Mesh hairpin(double arm, double fold, double radius, double press) {
+  core::Mesh mesh = testing::unit_sphere(64, 16);
+  const double turn = M_PI * fold, length = 2 * arm + turn;
+  const double closing = (2 * fold - (2 * radius - press)) / arm;  // x per metre down the second arm
+  for (long v = 0; v < mesh.V.rows(); ++v) {
+    const Eigen::Vector3d u = mesh.V.row(v).transpose();
+    const double s = (u.y() + 1) / 2 * length;
+    // Round ends, a constant section between them.
+    const double section = radius * std::pow(std::max(0.0, 1 - std::pow(std::abs(u.y()), 6)), 1.0 / 6);
+    const double across = std::hypot(u.x(), u.z());
+    const Eigen::Vector2d offset =
+        across > 0 ? Eigen::Vector2d(Eigen::Vector2d(u.x(), u.z()) / across * section) : Eigen::Vector2d::Zero();
+    Eigen::Vector2d centre, tangent;
+    if (s <= arm) {
+      centre << 0, s;
+      tangent << 0, 1;
+    } else if (s <= arm + turn) {
+      const double phi = (s - arm) / fold;
+      centre << fold - fold * std::cos(phi), arm + fold * std::sin(phi);
+      tangent << std::sin(phi), std::cos(phi);
+    } else {
+      const double down = s - arm - turn;
+      centre << 2 * fold - closing * down, arm - down;
+      tangent = Eigen::Vector2d(-closing, -1).normalized();
+    }
+    const Eigen::Vector2d normal(tangent.y(), -tangent.x());
+    const Eigen::Vector2d p = centre + offset.x() * normal;
+    mesh.V.row(v) << p.x(), p.y(), offset.y();
+  }
+  return mesh;
+}
+
+TEST(VolumeDeformer, OnlyDetoursOfABodysSizeAreCut) {
+  // A hairpin of a body's height whose ends press together: a limb resting on the body, cut.
+  EXPECT_GT(VolumeDeformer(hairpin(0.8, 0.08, 0.05, 0.04)).cut_elements(), 0);
+  // The same hairpin a fifth of the size beside a body of 1.8 m: its ends are as close along the
+  // surface as a fold of a garment or a blob fused to it, so the volume keeps it whole.
+  const core::Mesh small = hairpin(0.16, 0.016, 0.01, 0.008), body = testing::ellipsoid(16, 24);
+  core::Mesh beside;
+  beside.V.resize(small.V.rows() + body.V.rows(), 3);
+  beside.V << small.V, body.V.rowwise() + Eigen::RowVector3d(0.6, 0, 0);
+  beside.F.resize(small.F.rows() + body.F.rows(), 3);
+  beside.F << small.F, body.F.array() + static_cast<int>(small.V.rows());
+  EXPECT_EQ(VolumeDeformer(body).cut_elements(), 0);
+  EXPECT_EQ(VolumeDeformer(beside).cut_elements(), 0);
+}
+
 TEST(VolumeDeformer, SurfaceModelWhenTetrahedralisationIsOff) {
   const core::Mesh shape = testing::ellipsoid(10, 20);
   DeformerOptions options;
