@@ -13,7 +13,7 @@ namespace surfcap::align {
 
 namespace {
 
-constexpr int kPartVersion = 1;
+constexpr int kPartVersion = 2;
 
 /// FNV-1a (64 bit) of bytes, as 16 hex digits: enough to tell two files apart, not a signature.
 std::string checksum(std::span<const std::byte> bytes) {
@@ -191,7 +191,8 @@ void write_registration_part(const std::filesystem::path& path, const PartLabel&
                             {"observed_vertices", summary.template_observed_vertices},
                             {"unseen_vertices", summary.template_unseen_vertices},
                             {"softened_elements", summary.softened_elements},
-                            {"cut_elements", summary.cut_elements}};
+                            {"cut_elements", summary.cut_elements},
+                            {"cut_vertices", summary.template_cut_vertices}};
   core::write_json_file(path, document);
 }
 
@@ -225,8 +226,13 @@ RegistrationPart read_registration_part(const std::filesystem::path& path, const
       t.at("observed_vertices").get_to(summary->template_observed_vertices);
       t.at("unseen_vertices").get_to(summary->template_unseen_vertices);
       t.at("softened_elements").get_to(summary->softened_elements);
-      summary->cut_elements = t.value("cut_elements", 0L);  // parts of builds that cut nothing lack it
+      t.at("cut_elements").get_to(summary->cut_elements);
+      t.at("cut_vertices").get_to(summary->template_cut_vertices);
       volume_vertices = summary->volume_vertices;
+      const auto& cut = summary->template_cut_vertices;
+      for (std::size_t k = 0; k < cut.size(); ++k)
+        if (cut[k] < 0 || cut[k] >= volume_vertices || (k > 0 && cut[k] <= cut[k - 1]))
+          throw core::bad_input(path, "template.cut_vertices: not increasing vertex indices below volume_vertices");
     }
     const auto npy = positions_path(path);
     if (!std::filesystem::exists(npy)) throw core::io_error(npy, "missing: " + producer(label) + " writes it");

@@ -446,6 +446,7 @@ TreeRegistration::TreeRegistration(const core::Capture& capture, const similarit
   registration.template_unseen_vertices = m.model->unseen_vertex_count();
   registration.softened_elements = m.model->deformer().softened_elements();
   registration.cut_elements = m.model->deformer().cut_elements();
+  registration.template_cut_vertices = m.model->deformer().cut_vertices();
   registration.template_observed_vertices = m.template_surface.observed_vertices;
   registration.template_dropped_vertices = m.template_surface.dropped_vertices;
   spdlog::info("template {}:{} — {} vertices, {} model with {} vertices and {} elements",

@@ -105,6 +105,8 @@ struct Registration {
   long template_observed_vertices = 0;
   /// The root reconstruction's vertices not in the template (its loose pieces; TemplateSurface).
   std::vector<long> template_dropped_vertices;
+  /// The template vertices where cut tets joined parts far apart along its surface (VolumeDeformer).
+  std::vector<long> template_cut_vertices;
 };
 
 /// All deformer vertices (surface + interior) for a posed template surface (n×3): the rest volume

@@ -29,8 +29,9 @@ namespace {
 /// the template's height. The path from a limb to the body part it rests on runs through a joint
 /// (a hand on the hip: up the arm and down the torso), a sizeable part of the body; shorter
 /// detours are a garment's fold or a blob fused to the surface, which move with what they touch.
+/// `contacts` receives the surface vertices, sorted, whose pairs make the cut tets glue.
 std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices, const Eigen::MatrixXi& F,
-                              const Eigen::MatrixXi& T, double edge) {
+                              const Eigen::MatrixXi& T, double edge, std::vector<long>& contacts) {
   constexpr double kLabelEdges = 3.0, kNearEdges = 4.0, kDetour = 4.0, kFarHeight = 1.0 / 3.0;
   const auto up = rest.topRows(surface_vertices).col(1);
   const double height = up.maxCoeff() - up.minCoeff();
@@ -104,8 +105,9 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
     touched.clear();
   }
   std::vector<char> gluing(static_cast<std::size_t>(T.rows()), 0);
+  contacts.clear();
   for (long t = 0; t < T.rows(); ++t)
-    for (int i = 0; i < 4 && !gluing[static_cast<std::size_t>(t)]; ++i)
+    for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
         long a = label[static_cast<std::size_t>(T(t, i))], b = label[static_cast<std::size_t>(T(t, j))];
         if (a < 0 || b < 0 || a == b) continue;
@@ -113,9 +115,12 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
         const auto& list = far[static_cast<std::size_t>(a)];
         if (std::binary_search(list.begin(), list.end(), b)) {
           gluing[static_cast<std::size_t>(t)] = 1;
-          break;
+          contacts.push_back(a);
+          contacts.push_back(b);
         }
       }
+  std::sort(contacts.begin(), contacts.end());
+  contacts.erase(std::unique(contacts.begin(), contacts.end()), contacts.end());
   return gluing;
 }
 
@@ -180,7 +185,7 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
     for (long f = 0; f < template_mesh.F.rows(); ++f)
       edge += (template_mesh.V.row(template_mesh.F(f, 0)) - template_mesh.V.row(template_mesh.F(f, 1))).norm();
     edge /= std::max<double>(1.0, static_cast<double>(template_mesh.F.rows()));
-    const std::vector<char> gluing = gluing_tets(rest_, surface_vertices_, template_mesh.F, tetrahedra_, edge);
+    const std::vector<char> gluing = gluing_tets(rest_, surface_vertices_, template_mesh.F, tetrahedra_, edge, cut_vertices_);
     for (long e = 0; e < tetrahedra_.rows(); ++e)
       if (gluing[static_cast<std::size_t>(e)]) {
         element_weights_(e) = 0;

@@ -70,6 +70,8 @@ class VolumeDeformer {
   long element_count() const { return element_weights_.size(); }
   long softened_elements() const { return softened_elements_; }  ///< tets under unseen surface
   long cut_elements() const { return cut_elements_; }  ///< tets joining parts far apart along the surface
+  /// The surface vertices, sorted, where the cut tets joined parts far apart along the surface.
+  const std::vector<long>& cut_vertices() const { return cut_vertices_; }
   const Eigen::MatrixXd& rest() const { return rest_; }        ///< all vertices at rest (n×3)
   const Eigen::MatrixXi& tetrahedra() const { return tetrahedra_; }
 
@@ -106,6 +108,7 @@ class VolumeDeformer {
   double scale_ = 1;
   long softened_elements_ = 0;
   long cut_elements_ = 0;
+  std::vector<long> cut_vertices_;
 };
 
 }  // namespace surfcap::align

@@ -268,7 +268,7 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
 
 bool has_observation_figures(const align::Registration& registration) {
   if (registration.template_observed_vertices < registration.database.template_mesh.vertex_count() ||
-      registration.template_unseen_vertices > 0)
+      registration.template_unseen_vertices > 0 || !registration.template_cut_vertices.empty())
     return true;
   return std::any_of(registration.frames.begin(), registration.frames.end(),
                      [](const align::FrameRecord& record) {
@@ -290,6 +290,7 @@ void write_observation_preview(const std::filesystem::path& path, const core::Ca
   for (std::size_t node = 0; node < registration.frames.size(); ++node)
     if (registration.frames[node].parent < 0 && registration.world_positions[node].rows() > 0)
       unseen = align::unseen_vertices(registration.world_positions[node], F, align::capture_cameras(capture));
+  const std::vector<long>& cut = registration.template_cut_vertices;
   visit_nodes(capture, registration, nodes,
               [&](const align::FrameRecord& record, const core::Mesh& target, const Eigen::MatrixXd& V) {
                 const geometry::SurfaceQuery query(target.V, target.F);
@@ -298,13 +299,15 @@ void write_observation_preview(const std::filesystem::path& path, const core::Ca
                     align::merged_regions(rest, V, F, query, mean_edge, height);
                 Eigen::VectorXd values = Eigen::VectorXd::Zero(V.rows());
                 for (long v = 0; v < V.rows(); ++v)
-                  if (v >= registration.template_observed_vertices) values(v) = 1;
+                  if (v >= registration.template_observed_vertices) values(v) = 1;  // red
                   else if (observed.partial() && !observed.observed(query.closest_point(V.row(v).transpose())))
-                    values(v) = 0.75;
+                    values(v) = 0.875;  // orange
+                  else if (std::binary_search(cut.begin(), cut.end(), v))
+                    values(v) = 0.75;  // yellow
                   else if (merged.merged[static_cast<std::size_t>(v)])
-                    values(v) = 0.4;
+                    values(v) = 0.5;  // green
                   else if (!unseen.empty() && unseen[static_cast<std::size_t>(v)])
-                    values(v) = 0.25;
+                    values(v) = 0.25;  // cyan
                 char label[200], side_label[100];
                 std::snprintf(label, sizeof label, "%s:%d %ld holes, %.0f %% unobserved", record.sequence.c_str(),
                               record.frame, record.alignment.holes, 100 * record.alignment.unobserved_fraction);
@@ -321,8 +324,9 @@ void write_observation_preview(const std::filesystem::path& path, const core::Ca
                 panels.push_back(render_panel(below, F, values, 1.0, kPanelSize, below_label));
               });
   write_sheet(path, panels,
-              "observed (blue), seen by no camera at the root (cyan), fused with another part (green), over a hole's "
-              "rim in this frame (orange), closing surface (red)");
+              "observed (blue), seen by no camera at the root (cyan), fused with another part (green), where the "
+              "template's volume was cut from a part it touches (yellow), over a hole's rim in this frame (orange), "
+              "closing surface (red)");
 }
 
 void write_value_preview(const std::filesystem::path& path, const align::Registration& registration,

@@ -26,15 +26,16 @@ void write_residual_preview(const std::filesystem::path& path, const core::Captu
                             const align::Registration& registration, const std::vector<long>& nodes, double scale);
 
 /// Is there anything for the observation preview: a closing surface, template vertices no root
-/// camera sees, a frame with open holes or with merged regions?
+/// camera sees, a volume cut between touching parts, a frame with open holes or with merged regions?
 bool has_observation_figures(const align::Registration& registration);
 
 /// The aligned template of each node, front and side, coloured by observation: blue where the
 /// vertex is the reconstruction's and its closest point on the frame's reconstruction is observed,
 /// orange where that point lies on a hole's rim (align/observed_surface.hpp), red on the closing
 /// surface of the template, green in a region the reconstruction merged with another part
-/// (align/pairwise_checks.hpp), cyan where no camera sees the template at the root (and its volume
-/// is soft: align/alignment_template.hpp); the labels give the frame's holes, unobserved fraction
+/// (align/pairwise_checks.hpp), yellow where the template's volume was cut between parts that touch
+/// at the root (align/volume_deformer.hpp), cyan where no camera sees the template at the root (and
+/// its volume is soft: align/alignment_template.hpp); the labels give the frame's holes, unobserved fraction
 /// and merged regions. The root is also drawn from below, where most of what no camera sees is.
 void write_observation_preview(const std::filesystem::path& path, const core::Capture& capture,
                                const align::Registration& registration, const std::vector<long>& nodes);

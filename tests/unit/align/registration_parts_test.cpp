@@ -125,5 +125,43 @@ TEST(RegistrationParts, APartReadsBackExactlyAndAMissingOrMismatchedPartIsRefuse
   EXPECT_NE(message.find("shard-2-of-3.npy"), std::string::npos) << message;
 }
 
+TEST(RegistrationParts, TheTrunkCarriesTheTemplatesFiguresAndRefusesCutVerticesOutsideIt) {
+  const PartFolder folder;
+  core::write_file_atomically(folder.database / "similarity" / "tree.json", std::string("{\"tree\": 1}\n"));
+  TreePartition partition;
+  partition.trunk_size = 3;
+  const core::Json context = part_context(folder.database, "capture", RegisterOptions{}, partition);
+  const long vertices = 11;
+  const RegistrationPart part = example_part(vertices);
+  Registration summary;
+  summary.deformer_model = "tetrahedral";
+  summary.volume_vertices = vertices;
+  summary.elements = 40;
+  summary.template_unseen_vertices = 2;
+  summary.softened_elements = 3;
+  summary.cut_elements = 4;
+  summary.template_cut_vertices = {1, 6, 9};
+  const PartLabel trunk{0, 0, {}};
+  const auto path = trunk_part_path(folder.database);
+  write_registration_part(path, trunk, context, part, summary);
+  Registration back;
+  read_registration_part(path, trunk, context, part.nodes, vertices, &back);
+  EXPECT_EQ(back.deformer_model, "tetrahedral");
+  EXPECT_EQ(back.elements, 40);
+  EXPECT_EQ(back.softened_elements, 3);
+  EXPECT_EQ(back.cut_elements, 4);
+  EXPECT_EQ(back.template_cut_vertices, summary.template_cut_vertices);
+  // A cut vertex beyond the volume (an edited or corrupted part): bad input (3), naming the file.
+  for (const std::vector<long>& wrong : {std::vector<long>{1, 11}, std::vector<long>{-1, 2}, std::vector<long>{6, 1}}) {
+    summary.template_cut_vertices = wrong;
+    write_registration_part(path, trunk, context, part, summary);
+    const auto [code, message] =
+        refusal([&] { read_registration_part(path, trunk, context, part.nodes, vertices, &back); });
+    EXPECT_EQ(code, 3);
+    EXPECT_NE(message.find("cut_vertices"), std::string::npos) << message;
+    EXPECT_NE(message.find("trunk.json"), std::string::npos) << message;
+  }
+}
+
 }  // namespace
 }  // namespace surfcap::align

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -101,6 +102,13 @@ TEST(VolumeDeformer, PartsTouchingAtRestAreNotGluedTogetherByTheVolume) {
   EXPECT_EQ(VolumeDeformer(part).cut_elements(), 0);
   EXPECT_GT(deformer.cut_elements(), 0);
   EXPECT_LT(deformer.cut_elements(), deformer.tetrahedra().rows() / 5);
+  // The cut's vertices are where the parts press together: on both parts, on their inner halves.
+  const std::vector<long>& cut = deformer.cut_vertices();
+  ASSERT_FALSE(cut.empty());
+  EXPECT_TRUE(std::is_sorted(cut.begin(), cut.end()));
+  EXPECT_LT(cut.front(), n);
+  EXPECT_GE(cut.back(), n);
+  for (const long v : cut) EXPECT_LT(std::abs(pair.V(v, 0) - gap / 2), testing::ellipsoid_axes().x()) << v;
   // The second part pulled 0.3 m away, the first held where it is, by weak targets on every vertex.
   Eigen::MatrixXd targets = pair.V;
   targets.bottomRows(n).col(0).array() += 0.3;
