@@ -134,6 +134,12 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
   std::string fallback_reason = "volumetric model disabled";
   const Eigen::SparseMatrix<double> surface_gradient = geometry::gradient_operator(template_mesh.V, template_mesh.F);
   const Eigen::VectorXd areas = core::face_areas(template_mesh.V, template_mesh.F);
+  // The mean length of one edge per face: the thickness of the surface shells and the scale of the
+  // gluing test.
+  double edge = 0;
+  for (long f = 0; f < template_mesh.F.rows(); ++f)
+    edge += (template_mesh.V.row(template_mesh.F(f, 0)) - template_mesh.V.row(template_mesh.F(f, 1))).norm();
+  edge /= std::max<double>(1.0, static_cast<double>(template_mesh.F.rows()));
   if (!options.surface_model) {
     try {
       const geometry::TetMesh tets = geometry::tetrahedralise(template_mesh.V, template_mesh.F, options.tetrahedra);
@@ -151,10 +157,6 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
           triplets.emplace_back(tet_gradient.rows() + it.row(), it.col(), it.value());
       G_.resize(tet_gradient.rows() + surface_gradient.rows(), rest_.rows());
       G_.setFromTriplets(triplets.begin(), triplets.end());
-      double edge = 0;
-      for (long f = 0; f < template_mesh.F.rows(); ++f)
-        edge += (template_mesh.V.row(template_mesh.F(f, 0)) - template_mesh.V.row(template_mesh.F(f, 1))).norm();
-      edge /= std::max<double>(1.0, static_cast<double>(template_mesh.F.rows()));
       element_weights_.resize(tetrahedra_.rows() + areas.size());
       element_weights_ << geometry::tet_volumes(rest_, tetrahedra_).cwiseAbs(), areas * (0.5 * edge);
       model_ = "tetrahedral";
@@ -181,11 +183,8 @@ VolumeDeformer::VolumeDeformer(const core::Mesh& template_mesh, const DeformerOp
   for (long i = 0; i < surface_vertices_; ++i) diagonal += L.coeff(i, i);
   scale_ = diagonal > 0 ? diagonal / static_cast<double>(surface_vertices_) : 1.0;
   if (tetrahedra_.rows() > 0) {
-    double edge = 0;
-    for (long f = 0; f < template_mesh.F.rows(); ++f)
-      edge += (template_mesh.V.row(template_mesh.F(f, 0)) - template_mesh.V.row(template_mesh.F(f, 1))).norm();
-    edge /= std::max<double>(1.0, static_cast<double>(template_mesh.F.rows()));
-    const std::vector<char> gluing = gluing_tets(rest_, surface_vertices_, template_mesh.F, tetrahedra_, edge, cut_vertices_);
+    const std::vector<char> gluing =
+        gluing_tets(rest_, surface_vertices_, template_mesh.F, tetrahedra_, edge, cut_vertices_);
     for (long e = 0; e < tetrahedra_.rows(); ++e)
       if (gluing[static_cast<std::size_t>(e)]) {
         element_weights_(e) = 0;
