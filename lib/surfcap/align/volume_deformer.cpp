@@ -52,18 +52,21 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
       });
     }
   }
+  // Calls visit(a, b) for each pair of distinct labels a < b of tet t's vertices.
+  const auto for_label_pairs = [&](long t, const auto& visit) {
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const long a = label[static_cast<std::size_t>(T(t, i))], b = label[static_cast<std::size_t>(T(t, j))];
+        if (a >= 0 && b >= 0 && a != b) visit(std::min(a, b), std::max(a, b));
+      }
+  };
   // Pairs of labels to test, grouped by their lower label.
   std::vector<std::vector<long>> partners(static_cast<std::size_t>(surface_vertices));
   const double near = kNearEdges * edge;
   for (long t = 0; t < T.rows(); ++t)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        long a = label[static_cast<std::size_t>(T(t, i))], b = label[static_cast<std::size_t>(T(t, j))];
-        if (a < 0 || b < 0 || a == b) continue;
-        if (a > b) std::swap(a, b);
-        if ((rest.row(a) - rest.row(b)).norm() > near) continue;
-        partners[static_cast<std::size_t>(a)].push_back(b);
-      }
+    for_label_pairs(t, [&](long a, long b) {
+      if ((rest.row(a) - rest.row(b)).norm() <= near) partners[static_cast<std::size_t>(a)].push_back(b);
+    });
   const auto adjacency = geometry::vertex_adjacency(F, surface_vertices);
   const double far_along = kFarHeight * height, radius = std::max(kDetour * near, far_along);
   std::vector<double> distance(static_cast<std::size_t>(surface_vertices), std::numeric_limits<double>::infinity());
@@ -76,7 +79,8 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
     // Dijkstra along the edges from a, up to `radius` or until every partner is settled (most
-    // are a few edges away).
+    // are a few edges away): one small search per vertex in one reused buffer, where
+    // geometry::edge_geodesic_distance would sweep the whole mesh each time.
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
     distance[static_cast<std::size_t>(a)] = 0;
     touched.push_back(a);
@@ -85,7 +89,7 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
     while (!queue.empty() && settled < list.size()) {
       const auto [d, v] = queue.top();
       queue.pop();
-      if (d > distance[static_cast<std::size_t>(v)] || d > radius) continue;
+      if (d > distance[static_cast<std::size_t>(v)]) continue;  // only entries within `radius` are queued
       if (std::binary_search(list.begin(), list.end(), v)) ++settled;
       for (const int u : adjacency[static_cast<std::size_t>(v)]) {
         const double next = d + (rest.row(v) - rest.row(u)).norm();
@@ -107,18 +111,14 @@ std::vector<char> gluing_tets(const Eigen::MatrixXd& rest, long surface_vertices
   std::vector<char> gluing(static_cast<std::size_t>(T.rows()), 0);
   contacts.clear();
   for (long t = 0; t < T.rows(); ++t)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        long a = label[static_cast<std::size_t>(T(t, i))], b = label[static_cast<std::size_t>(T(t, j))];
-        if (a < 0 || b < 0 || a == b) continue;
-        if (a > b) std::swap(a, b);
-        const auto& list = far[static_cast<std::size_t>(a)];
-        if (std::binary_search(list.begin(), list.end(), b)) {
-          gluing[static_cast<std::size_t>(t)] = 1;
-          contacts.push_back(a);
-          contacts.push_back(b);
-        }
+    for_label_pairs(t, [&](long a, long b) {
+      const auto& list = far[static_cast<std::size_t>(a)];
+      if (std::binary_search(list.begin(), list.end(), b)) {
+        gluing[static_cast<std::size_t>(t)] = 1;
+        contacts.push_back(a);
+        contacts.push_back(b);
       }
+    });
   std::sort(contacts.begin(), contacts.end());
   contacts.erase(std::unique(contacts.begin(), contacts.end()), contacts.end());
   return gluing;
